@@ -1,0 +1,179 @@
+"""A cam design: mechanism + motion program + tolerances (ARCHITECTURE.md).
+
+Tolerances follow the papers' conventions (THEORY §3.6): a tolerance "of grade ITk" is a
+deviation equal to the full IT value; the nominal size of the profile tolerance is the
+cam's maximum radial dimension; an angle's grade applies the IT table to its number of
+degrees and reads the result in thousandths of a degree (not defined by ISO 286).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from camtol import iso286
+from camtol.exceptions import DesignError
+from camtol.mechanisms.base import Mechanism
+from camtol.motion import MotionProgram
+
+__all__ = ["CamDesign", "ResolvedTolerance", "ToleranceSpec", "IT_CONVENTIONS"]
+
+#: The conventions camtol states wherever IT grades are used (THEORY §3.6).
+IT_CONVENTIONS: tuple[str, ...] = (
+    "a tolerance of grade ITk is a deviation equal to the full IT value (Δ = +IT)",
+    "the nominal size of a profile tolerance (r, n) is the cam's maximum radial dimension",
+    "an angle's IT grade applies the ISO 286 table to its number of degrees and reads the"
+    " value in thousandths of a degree (a convention of the papers, not defined by ISO 286)",
+)
+
+
+@dataclass(frozen=True)
+class ToleranceSpec:
+    """A tolerance on one error source: an IT grade or an explicit deviation.
+
+    Parameters
+    ----------
+    key : str
+        Source key (``r``, ``n``, ``e``, ``phi``, ``f``, ...).
+    grade : str, optional
+        ISO 286 grade such as ``"IT6"``.
+    deviation : float, optional
+        Explicit deviation in the *file* unit: µm for lengths, degrees for angles.
+    """
+
+    key: str
+    grade: str | None = None
+    deviation: float | None = None
+
+    def __post_init__(self) -> None:
+        if (self.grade is None) == (self.deviation is None):
+            raise DesignError(
+                f"tolerances.{self.key}: give either an IT grade or an explicit deviation"
+            )
+        if self.grade is not None:
+            object.__setattr__(self, "grade", iso286.parse_grade(self.grade))
+        if self.deviation is not None and not math.isfinite(self.deviation):
+            raise DesignError(f"tolerances.{self.key}={self.deviation!r} must be a finite number")
+
+
+@dataclass(frozen=True)
+class ResolvedTolerance:
+    """A tolerance turned into a deviation in internal units.
+
+    Attributes
+    ----------
+    key : str
+        Source key.
+    deviation : float
+        Δp in internal units. [mm, or rad for angles]
+    unit : str
+        Internal unit, ``"mm"`` or ``"rad"``.
+    origin : str
+        How it was obtained, e.g. ``"IT6 at 61.25 mm → 19 µm"``.
+    """
+
+    key: str
+    deviation: float
+    unit: str
+    origin: str
+
+    @property
+    def display(self) -> str:
+        """Deviation in file units, e.g. ``19 µm`` or ``0.011°``."""
+        if self.unit == "mm":
+            return f"{self.deviation * 1e3:.6g} µm"
+        return f"{math.degrees(self.deviation):.6g}°"
+
+
+@dataclass(frozen=True)
+class CamDesign:
+    """A disk-cam design: follower mechanism, motion program and tolerances.
+
+    Parameters
+    ----------
+    name : str
+        Short name of the design.
+    mechanism : Mechanism
+        Follower type and nominal dimensions.
+    program : MotionProgram
+        Motion program S(θ) in the follower's unit (mm, or rad when oscillating).
+    tolerances : tuple of ToleranceSpec
+        Tolerances of the error sources to analyse.
+    speed_rpm : float, optional
+        Cam speed; when given, ΔV and ΔA are reported per second as well. [rev/min]
+    pressure_angle_limit_deg : float, optional
+        Design limit on |pressure angle|: exceeding it is warned about. [deg]
+    description, reference : str
+        Free text shown in reports.
+    """
+
+    name: str
+    mechanism: Mechanism
+    program: MotionProgram
+    tolerances: tuple[ToleranceSpec, ...] = ()
+    speed_rpm: float | None = None
+    pressure_angle_limit_deg: float | None = None
+    description: str = ""
+    reference: str = ""
+    extras: dict[str, object] = field(default_factory=dict, compare=False)
+
+    def __post_init__(self) -> None:
+        keys = {s.key for s in self.mechanism.sources}
+        for t in self.tolerances:
+            if t.key not in keys:
+                raise DesignError(
+                    f"tolerances.{t.key} is not an error source of a {self.mechanism.kind}"
+                    f" follower; allowed: {', '.join(sorted(keys))}"
+                )
+        if self.speed_rpm is not None and not (
+            math.isfinite(self.speed_rpm) and self.speed_rpm > 0
+        ):
+            raise DesignError(f"operation.speed_rpm={self.speed_rpm:g} must be > 0")
+
+    @property
+    def omega_rad_s(self) -> float | None:
+        """Cam speed ω, or None. [rad/s]"""
+        return None if self.speed_rpm is None else self.speed_rpm * 2.0 * math.pi / 60.0
+
+    def resolve_tolerances(self, max_radius_mm: float) -> tuple[ResolvedTolerance, ...]:
+        """Turn every tolerance into a deviation in internal units (THEORY §3.6).
+
+        Parameters
+        ----------
+        max_radius_mm : float
+            Maximum radial dimension of the cam profile, the nominal size of profile
+            tolerances. [mm]
+
+        Raises
+        ------
+        DesignError
+            If an IT grade cannot be applied (nominal size 0 or beyond 3150 mm).
+        """
+        out = []
+        for spec in self.tolerances:
+            src = self.mechanism.source(spec.key)
+            if spec.deviation is not None:
+                if src.unit == "mm":
+                    dev, origin = spec.deviation * 1e-3, f"{spec.deviation:g} µm (given)"
+                else:
+                    dev, origin = math.radians(spec.deviation), f"{spec.deviation:g}° (given)"
+            else:
+                assert spec.grade is not None
+                nominal = self.mechanism.nominal_size(spec.key, max_radius_mm)
+                try:
+                    if src.unit == "mm":
+                        um = iso286.tolerance_um(spec.grade, nominal)
+                        dev = um * 1e-3
+                        origin = f"{spec.grade} at {nominal:.6g} mm → {um:g} µm"
+                    else:
+                        deg = iso286.angle_tolerance_deg(spec.grade, nominal)
+                        dev = math.radians(deg)
+                        origin = f"{spec.grade} of {nominal:.6g}° → {deg:g}° (angle convention)"
+                except ValueError as exc:
+                    raise DesignError(
+                        f"tolerances.{spec.key}={spec.grade!r} cannot be applied: {exc};"
+                        f" give tolerances.{spec.key}_{'um' if src.unit == 'mm' else 'deg'}"
+                        " as an explicit deviation instead"
+                    ) from None
+            out.append(ResolvedTolerance(spec.key, dev, src.unit, origin))
+        return tuple(out)

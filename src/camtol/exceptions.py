@@ -1,0 +1,45 @@
+"""Errors and warnings raised by camtol.
+
+Every error subclasses a built-in (mostly :class:`ValueError`) and its message names the
+field, the value and what is allowed, so the command line can print it as one line.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "CamtolError",
+    "ConfigError",
+    "DesignError",
+    "GeometryError",
+    "InputFileError",
+    "PressureAngleWarning",
+    "UndercutError",
+]
+
+
+class CamtolError(Exception):
+    """Base class of every error camtol raises on purpose."""
+
+
+class DesignError(CamtolError, ValueError):
+    """A cam design's parameters or motion program are invalid."""
+
+
+class ConfigError(DesignError):
+    """A design file (TOML) is malformed or a field is missing or out of range."""
+
+
+class InputFileError(CamtolError, ValueError):
+    """A data file (CSV table, measurement) cannot be read or is malformed."""
+
+
+class GeometryError(DesignError):
+    """The design cannot produce its motion (cusp, V ≥ 1, pressure angle ≥ 90°...)."""
+
+
+class UndercutError(GeometryError):
+    """The cam profile would be undercut or cusped (radius of curvature ≤ 0)."""
+
+
+class PressureAngleWarning(UserWarning):
+    """The pressure angle exceeds the design's limit but the cam still works."""

@@ -1,0 +1,211 @@
+"""Second-order Taylor arithmetic ("jets") over the cam-angle grid.
+
+A :class:`Jet` carries a quantity and its first and second derivatives with respect to
+the cam angle θ, as three arrays over the θ grid. Mechanism formulas (THEORY §2, §3) are
+written once with the functions of this module; fed with plain arrays they return plain
+arrays, fed with jets (θ, S, V seeded with their exact derivatives from the motion
+program) they return the exact first and second θ-derivatives as well.
+
+This is how camtol obtains the velocity and acceleration errors of THEORY §3.5 and the
+profile's radius of curvature *analytically*: the derivatives come from V, A and J of the
+motion law through the chain rule, evaluated one-sidedly at segment boundaries, so the
+jumps the papers describe are reproduced exactly instead of being smeared by a stencil.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Union
+
+import numpy as np
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+Real = Union[float, FloatArray]
+
+__all__ = [
+    "Jet",
+    "JetLike",
+    "arccos",
+    "arcsin",
+    "arctan",
+    "arctan2",
+    "cos",
+    "hypot",
+    "sin",
+    "sqrt",
+    "tan",
+    "value",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class Jet:
+    """A quantity f(θ) with its derivatives f'(θ) and f''(θ) on a grid.
+
+    Parameters
+    ----------
+    v : ndarray
+        Value f. [unit of f]
+    d1 : ndarray
+        First derivative df/dθ. [unit of f / rad]
+    d2 : ndarray
+        Second derivative d²f/dθ². [unit of f / rad²]
+    """
+
+    v: FloatArray
+    d1: FloatArray
+    d2: FloatArray
+
+    # Make ``ndarray * Jet`` defer to Jet.__rmul__ instead of building an object array.
+    __array_ufunc__ = None
+
+    @classmethod
+    def variable(cls, theta_rad: FloatArray) -> Jet:
+        """Return the independent variable θ itself (θ' = 1, θ'' = 0)."""
+        t = np.asarray(theta_rad, dtype=float)
+        return cls(t, np.ones_like(t), np.zeros_like(t))
+
+    @classmethod
+    def constant(cls, c: Real, like: FloatArray) -> Jet:
+        """Return a constant broadcast to the shape of ``like``."""
+        v = np.broadcast_to(np.asarray(c, dtype=float), np.shape(like)).astype(float)
+        return cls(v, np.zeros_like(v), np.zeros_like(v))
+
+    # --- arithmetic -------------------------------------------------------------------
+    def _chain(self, g0: FloatArray, g1: FloatArray, g2: FloatArray) -> Jet:
+        """Compose g∘f given g(f), g'(f), g''(f)."""
+        return Jet(g0, g1 * self.d1, g2 * self.d1 * self.d1 + g1 * self.d2)
+
+    def __add__(self, other: JetLike) -> Jet:
+        if isinstance(other, Jet):
+            return Jet(self.v + other.v, self.d1 + other.d1, self.d2 + other.d2)
+        return Jet(self.v + other, self.d1, self.d2)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> Jet:
+        return Jet(-self.v, -self.d1, -self.d2)
+
+    def __sub__(self, other: JetLike) -> Jet:
+        return self + (-other)
+
+    def __rsub__(self, other: JetLike) -> Jet:
+        return (-self) + other
+
+    def __mul__(self, other: JetLike) -> Jet:
+        if isinstance(other, Jet):
+            return Jet(
+                self.v * other.v,
+                self.d1 * other.v + self.v * other.d1,
+                self.d2 * other.v + 2.0 * self.d1 * other.d1 + self.v * other.d2,
+            )
+        return Jet(self.v * other, self.d1 * other, self.d2 * other)
+
+    __rmul__ = __mul__
+
+    def reciprocal(self) -> Jet:
+        """Return 1/f."""
+        r = 1.0 / self.v
+        return self._chain(r, -r * r, 2.0 * r * r * r)
+
+    def __truediv__(self, other: JetLike) -> Jet:
+        if isinstance(other, Jet):
+            return self * other.reciprocal()
+        return Jet(self.v / other, self.d1 / other, self.d2 / other)
+
+    def __rtruediv__(self, other: JetLike) -> Jet:
+        return self.reciprocal() * other
+
+    def __pow__(self, n: float) -> Jet:
+        return self._chain(self.v**n, n * self.v ** (n - 1), n * (n - 1) * self.v ** (n - 2))
+
+
+JetLike = Union[Jet, Real]
+
+
+def value(x: JetLike) -> FloatArray:
+    """Return the value part of a jet, or the array itself."""
+    return x.v if isinstance(x, Jet) else np.asarray(x, dtype=float)
+
+
+def sin(x: JetLike) -> JetLike:
+    """Sine, for arrays or jets."""
+    if isinstance(x, Jet):
+        s, c = np.sin(x.v), np.cos(x.v)
+        return x._chain(s, c, -s)
+    return np.sin(x)
+
+
+def cos(x: JetLike) -> JetLike:
+    """Cosine, for arrays or jets."""
+    if isinstance(x, Jet):
+        s, c = np.sin(x.v), np.cos(x.v)
+        return x._chain(c, -s, -c)
+    return np.cos(x)
+
+
+def tan(x: JetLike) -> JetLike:
+    """Tangent, for arrays or jets."""
+    if isinstance(x, Jet):
+        t = np.tan(x.v)
+        sec2 = 1.0 + t * t
+        return x._chain(t, sec2, 2.0 * t * sec2)
+    return np.tan(x)
+
+
+def sqrt(x: JetLike) -> JetLike:
+    """Square root, for arrays or jets."""
+    if isinstance(x, Jet):
+        r = np.sqrt(x.v)
+        return x._chain(r, 0.5 / r, -0.25 / (r * x.v))
+    return np.sqrt(x)
+
+
+def arcsin(x: JetLike) -> JetLike:
+    """Inverse sine, for arrays or jets."""
+    if isinstance(x, Jet):
+        w = 1.0 / np.sqrt(1.0 - x.v * x.v)
+        return x._chain(np.arcsin(x.v), w, x.v * w**3)
+    return np.arcsin(x)
+
+
+def arccos(x: JetLike) -> JetLike:
+    """Inverse cosine, for arrays or jets."""
+    if isinstance(x, Jet):
+        w = 1.0 / np.sqrt(1.0 - x.v * x.v)
+        return x._chain(np.arccos(x.v), -w, -x.v * w**3)
+    return np.arccos(x)
+
+
+def arctan(x: JetLike) -> JetLike:
+    """Inverse tangent, for arrays or jets."""
+    if isinstance(x, Jet):
+        w = 1.0 / (1.0 + x.v * x.v)
+        return x._chain(np.arctan(x.v), w, -2.0 * x.v * w * w)
+    return np.arctan(x)
+
+
+def arctan2(y: JetLike, x: JetLike) -> JetLike:
+    """Four-quadrant inverse tangent of y/x, for arrays or jets."""
+    if not isinstance(y, Jet) and not isinstance(x, Jet):
+        return np.arctan2(y, x)
+    yj = y if isinstance(y, Jet) else Jet.constant(y, value(x))
+    xj = x if isinstance(x, Jet) else Jet.constant(x, value(y))
+    # d atan2 = (x dy - y dx)/(x²+y²); the second derivative follows by the product rule.
+    r2 = xj * xj + yj * yj
+    num = Jet(
+        np.zeros_like(xj.v),
+        xj.v * yj.d1 - yj.v * xj.d1,
+        xj.v * yj.d2 - yj.v * xj.d2,
+    )
+    d1 = num.d1 / r2.v
+    d2 = (num.d2 * r2.v - num.d1 * r2.d1) / (r2.v * r2.v)
+    return Jet(np.arctan2(yj.v, xj.v), d1, d2)
+
+
+def hypot(x: JetLike, y: JetLike) -> JetLike:
+    """Euclidean norm sqrt(x² + y²), for arrays or jets."""
+    if not isinstance(x, Jet) and not isinstance(y, Jet):
+        return np.hypot(x, y)
+    return sqrt(x * x + y * y)

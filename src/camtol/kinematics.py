@@ -1,0 +1,232 @@
+"""The analytic engine's per-θ result (ARCHITECTURE.md; THEORY §2).
+
+:func:`kinematics` evaluates a design's mechanism over a θ grid with exact derivatives
+(second-order jets seeded from S, V, A, J), checks that the geometry can work, and returns
+plain arrays with units in their names.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from camtol import jet
+from camtol.design import CamDesign
+from camtol.exceptions import GeometryError, PressureAngleWarning, UndercutError
+from camtol.jet import FloatArray, Jet, JetLike
+from camtol.mechanisms.base import ContactGeometry
+from camtol.motion import MotionState
+
+__all__ = ["Kinematics", "analysis_grid", "kinematics", "contact_jets", "to_jet"]
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """Kinematics of a cam design on a θ grid.
+
+    Attributes
+    ----------
+    theta_rad : ndarray
+        Cam angles, non-decreasing; a segment boundary may appear twice (left limit,
+        then right limit) so that jumps are represented exactly. [rad]
+    left_limit : ndarray of bool
+        True where the row is the left limit at a boundary.
+    lift, velocity, acceleration, jerk : ndarray
+        S, V, A, J of the motion program. [mm or rad, per rad^k]
+    contact_x_mm, contact_y_mm : ndarray
+        Contact point A in the cam frame. [mm]
+    radius_mm : ndarray
+        Radial dimension |O2A| of the contact point. [mm]
+    centre_x_mm, centre_y_mm, q_mm : ndarray
+        Instant centre Q = I23 and its signed distance q. [mm]
+    pressure_angle_rad, shift_angle_rad : ndarray
+        Signed pressure angle φ and shift angle λ. [rad]
+    curvature_radius_mm : ndarray
+        Radius of curvature of the profile at A (> 0 convex). [mm]
+    face_contact_mm : ndarray or None
+        Flat faces: u, signed distance from the face reference point P to A. [mm]
+    follower_angle_rad : ndarray or None
+        Oscillating followers: ξ. [rad]
+    """
+
+    theta_rad: FloatArray
+    left_limit: NDArray[np.bool_]
+    lift: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+    jerk: FloatArray
+    contact_x_mm: FloatArray
+    contact_y_mm: FloatArray
+    radius_mm: FloatArray
+    centre_x_mm: FloatArray
+    centre_y_mm: FloatArray
+    q_mm: FloatArray
+    pressure_angle_rad: FloatArray
+    shift_angle_rad: FloatArray
+    curvature_radius_mm: FloatArray
+    face_contact_mm: FloatArray | None = None
+    follower_angle_rad: FloatArray | None = None
+
+
+def analysis_grid(
+    step_deg: float, boundaries_rad: ArrayLike = ()
+) -> tuple[FloatArray, NDArray[np.bool_]]:
+    """θ grid over 0..360° inclusive with each boundary angle duplicated (left, right).
+
+    Parameters
+    ----------
+    step_deg : float
+        Grid step; 360 must be a whole multiple of it to within 1e-9. [deg]
+    boundaries_rad : array_like
+        Angles where derivatives may jump. [rad]
+
+    Returns
+    -------
+    theta_rad, left_limit
+        The grid and the mask of left-limit rows.
+    """
+    n = int(round(360.0 / step_deg))
+    theta = np.linspace(0.0, 2.0 * math.pi, n + 1)
+    b = np.mod(np.asarray(boundaries_rad, dtype=float), 2.0 * math.pi)
+    b = np.unique(np.concatenate([b, b + 2 * math.pi, [2 * math.pi]]))
+    b = b[(b > 0) & (b <= 2 * math.pi + 1e-12)]
+    # Snap boundaries onto existing grid points when they coincide.
+    idx = np.searchsorted(theta, b)
+    idx = np.clip(idx, 0, theta.size - 1)
+    near = np.abs(theta[idx] - b) < 1e-9
+    theta[idx[near]] = b[near]
+    full = np.concatenate([theta, b])
+    left = np.concatenate([np.zeros(theta.size, bool), np.ones(b.size, bool)])
+    # Left limits sort just before the right-limit row at the same angle.
+    order = np.lexsort((~left, full))
+    return full[order], left[order]
+
+
+def to_jet(x: FloatArray, d1: FloatArray, d2: FloatArray) -> Jet:
+    """Build a jet from a value and its exact derivatives."""
+    return Jet(np.asarray(x, float), np.asarray(d1, float), np.asarray(d2, float))
+
+
+def contact_jets(design: CamDesign, theta_rad: FloatArray, motion: MotionState) -> ContactGeometry:
+    """Contact geometry of the design as jets in θ (exact first and second derivatives)."""
+    theta = Jet.variable(theta_rad)
+    lift = to_jet(motion.lift, motion.velocity, motion.acceleration)
+    vel = to_jet(motion.velocity, motion.acceleration, motion.jerk)
+    return design.mechanism.contact(theta, lift, vel)
+
+
+def _val(x: JetLike) -> FloatArray:
+    return np.asarray(jet.value(x), dtype=float)
+
+
+def kinematics(
+    design: CamDesign,
+    theta_rad: ArrayLike,
+    *,
+    left_limit: ArrayLike | None = None,
+    check: bool = True,
+) -> Kinematics:
+    """Evaluate the analytic engine over θ (THEORY §2).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    theta_rad : array_like
+        Cam angles. [rad]
+    left_limit : array_like of bool, optional
+        Rows that take the left limit at a segment boundary.
+    check : bool
+        Raise if the geometry cannot work (see Raises).
+
+    Raises
+    ------
+    GeometryError
+        V ≥ 1 for an oscillating follower, or |pressure angle| ≥ 90°.
+    UndercutError
+        Radius of curvature ≤ 0 (cusp or undercut) anywhere on the grid.
+    """
+    theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
+    left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
+    mech = design.mechanism
+    motion = design.program.evaluate(theta, left_limit=left)
+    if check and mech.output == "oscillating" and np.any(motion.velocity >= 1.0):
+        i = int(np.argmax(motion.velocity))
+        raise GeometryError(
+            f"the follower's angular velocity ratio V reaches {motion.velocity[i]:.4g} at"
+            f" θ={math.degrees(theta[i]):.2f}°; an oscillating follower needs V < 1 everywhere"
+            " (slow the motion: longer segments or a smaller swing)"
+        )
+    g = mech.contact(theta, motion.lift, motion.velocity)
+    rho = mech.curvature_radius(theta, motion.lift, motion.velocity, motion.acceleration)
+    ax, ay = _val(g.contact_x), _val(g.contact_y)
+    kin = Kinematics(
+        theta_rad=theta,
+        left_limit=left,
+        lift=motion.lift,
+        velocity=motion.velocity,
+        acceleration=motion.acceleration,
+        jerk=motion.jerk,
+        contact_x_mm=ax,
+        contact_y_mm=ay,
+        radius_mm=np.hypot(ax, ay),
+        centre_x_mm=_val(g.centre_x),
+        centre_y_mm=_val(g.centre_y),
+        q_mm=_val(g.q),
+        pressure_angle_rad=_val(g.pressure_angle) + np.zeros_like(theta),
+        shift_angle_rad=_val(g.shift_angle),
+        curvature_radius_mm=rho,
+        face_contact_mm=_val(g.extras["face_contact"]) if "face_contact" in g.extras else None,
+        follower_angle_rad=(
+            _val(g.extras["follower_angle"]) if "follower_angle" in g.extras else None
+        ),
+    )
+    if check:
+        check_geometry(design, kin)
+    return kin
+
+
+def check_geometry(design: CamDesign, kin: Kinematics) -> None:
+    """Raise if the design cannot produce its motion; warn past the pressure-angle limit.
+
+    Raises
+    ------
+    UndercutError
+        Radius of curvature ≤ 0 somewhere (THEORY §2.1: a flat face needs a convex cam).
+    GeometryError
+        |pressure angle| ≥ 90°, or the geometry is undefined (NaN).
+    """
+    deg = np.degrees(kin.theta_rad)
+    bad = ~np.isfinite(kin.radius_mm) | ~np.isfinite(kin.pressure_angle_rad)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise GeometryError(
+            f"the contact geometry is undefined at θ={deg[i]:.2f}° (follower cannot reach the"
+            " cam there); check the dimensions"
+        )
+    i = int(np.argmin(kin.curvature_radius_mm))
+    if kin.curvature_radius_mm[i] <= 0:
+        raise UndercutError(
+            f"the profile is not convex: radius of curvature {kin.curvature_radius_mm[i]:.4g} mm"
+            f" at θ={deg[i]:.2f}° (cusp/undercut); a {design.mechanism.kind} follower needs"
+            " ρ > 0 everywhere: increase the base radius or lengthen the motion"
+        )
+    pa = np.abs(kin.pressure_angle_rad)
+    j = int(np.argmax(pa))
+    if pa[j] >= math.pi / 2:
+        raise GeometryError(
+            f"pressure angle {math.degrees(kin.pressure_angle_rad[j]):.2f}° at θ={deg[j]:.2f}°"
+            " is at or beyond 90°: the follower would jam"
+        )
+    limit = design.pressure_angle_limit_deg
+    if limit is not None and math.degrees(pa[j]) > limit:
+        warnings.warn(
+            f"pressure angle reaches {math.degrees(kin.pressure_angle_rad[j]):.2f}° at"
+            f" θ={deg[j]:.2f}°, beyond the design limit {limit:g}°",
+            PressureAngleWarning,
+            stacklevel=3,
+        )

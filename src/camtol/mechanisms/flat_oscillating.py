@@ -1,0 +1,182 @@
+"""Oscillating flat-faced follower (THEORY §2.2, §3.2; [CW06] §2.2, §3).
+
+References
+----------
+.. [CW06] W.-T. Chang, L.-I. Wu, "Mechanical error analysis of disk cam mechanisms with a
+   flat-faced follower", J. Mech. Sci. Technol. 20(3):345-357, 2006.
+   doi:10.1007/BF02916465
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from camtol import jet
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray, JetLike
+from camtol.mechanisms.base import (
+    ContactGeometry,
+    ErrorSource,
+    Mechanism,
+    OutputKind,
+    require_finite,
+    require_positive,
+    shift_angle,
+)
+
+__all__ = ["FlatOscillating"]
+
+
+@dataclass(frozen=True)
+class FlatOscillating(Mechanism):
+    r"""Oscillating flat-faced follower; output ξ in radians.
+
+    Parameters
+    ----------
+    base_radius_mm : float
+        Base-circle radius r_b. [mm]
+    pivot_distance_mm : float
+        Centre distance f = |O2O3|. [mm]
+    face_offset_mm : float
+        Distance e of the face from the pivot O3; positive when the face is offset away
+        from the cam centre (THEORY §2.2). [mm]
+
+    Notes
+    -----
+    THEORY §2.2 (CW06 eqs. 18-21; CW06 eq. 18's "+q(cos θ, sin θ)" is a misprint):
+
+    .. math::
+
+        ξ = \arcsin\frac{r_b - e}{f} + S,\quad q = \frac{fV}{1 - V},\quad
+        QE = (f + q)\sin ξ,\quad α = 90° - ξ
+
+    A = ((QE + e) cos(θ+α) − q cos θ, (QE + e) sin(θ+α) − q sin θ),
+    tan φ = e / ((f + q) cos ξ), u = (f + q) cos ξ. The follower turns in the same sense
+    as the cam during a rise (THEORY §0), so V < 1 is required everywhere.
+
+    The face normal points along ψ = θ + α, so dψ/dθ = 1 − V, and the profile's support
+    function is p = A·n = f sin ξ + e. Hence the radius of curvature in closed form:
+
+    .. math::
+
+        ρ = p + \frac{d^2p}{dψ^2}
+          = f\sin ξ + e + f\left(\frac{A\cos ξ}{(1-V)^3}
+            - \frac{V^2 \sin ξ}{(1-V)^2}\right)
+    """
+
+    base_radius_mm: float
+    pivot_distance_mm: float
+    face_offset_mm: float = 0.0
+
+    kind: ClassVar[str] = "flat_oscillating"
+    output: ClassVar[OutputKind] = "oscillating"
+    sources: ClassVar[tuple[ErrorSource, ...]] = (
+        ErrorSource("r", "radial profile error Δr", "mm"),
+        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm"),
+        ErrorSource("e", "face-offset error Δe", "mm"),
+    )
+
+    def __post_init__(self) -> None:
+        require_positive("follower.base_radius_mm", self.base_radius_mm)
+        require_positive("follower.pivot_distance_mm", self.pivot_distance_mm)
+        require_finite("follower.face_offset_mm", self.face_offset_mm)
+        ratio = (self.base_radius_mm - self.face_offset_mm) / self.pivot_distance_mm
+        if not -1.0 < ratio < 1.0:
+            raise DesignError(
+                f"follower.pivot_distance_mm={self.pivot_distance_mm:g} is too short: the face"
+                f" at e={self.face_offset_mm:g} mm cannot touch a base circle of"
+                f" {self.base_radius_mm:g} mm; need f > |r_b − e| ="
+                f" {abs(self.base_radius_mm - self.face_offset_mm):g} mm"
+            )
+
+    @property
+    def initial_angle_rad(self) -> float:
+        """ξ0 = asin((r_b − e)/f), the follower angle on the base circle. [rad]"""
+        return math.asin((self.base_radius_mm - self.face_offset_mm) / self.pivot_distance_mm)
+
+    def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
+        """Contact geometry (THEORY §2.2).
+
+        Extras: ``face_contact`` u = (f+q) cos ξ [mm]; ``follower_angle`` ξ [rad].
+        """
+        f, e = self.pivot_distance_mm, self.face_offset_mm
+        xi = self.initial_angle_rad + lift
+        q = f * velocity / (1.0 - velocity)
+        sx, cx = jet.sin(xi), jet.cos(xi)
+        qe = (f + q) * sx
+        alpha = math.pi / 2 - xi
+        c, s = jet.cos(theta), jet.sin(theta)
+        ax = (qe + e) * jet.cos(theta + alpha) - q * c
+        ay = (qe + e) * jet.sin(theta + alpha) - q * s
+        qx, qy = -q * c, -q * s
+        u = (f + q) * cx
+        pressure = jet.arctan2(e + 0.0 * u, u)
+        return ContactGeometry(
+            ax,
+            ay,
+            qx,
+            qy,
+            q,
+            pressure,
+            shift_angle(ax, ay, qx, qy),
+            {"face_contact": u, "follower_angle": xi},
+        )
+
+    def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
+        """Δξ per unit error, rad per mm (THEORY §3.2, CW06 eqs. 31-36, 43).
+
+        ΔS_n = Δn/u, ΔS_f = −Δf sin ξ/u, ΔS_e = −Δe/u, ΔS_r = Δr cos λ/u, from
+        ΔS = Δξ = −Δθ3 and ∂F/∂θ3 = −u. CW06 prints eq. 34 as +Δf sin ξ/u and eq. 35 as
+        +Δe/u; both are misprints (THEORY §3.2; proved by exact re-simulation in the tests).
+        """
+        u = geometry.extras["face_contact"]
+        xi = geometry.extras["follower_angle"]
+        inv_u = 1.0 / u
+        return {
+            "r": jet.cos(geometry.shift_angle) * inv_u,
+            "n": inv_u,
+            "f": -jet.sin(xi) * inv_u,
+            "e": -inv_u,
+        }
+
+    def curvature_radius(
+        self,
+        theta_rad: FloatArray,
+        lift: FloatArray,
+        velocity: FloatArray,
+        acceleration: FloatArray,
+    ) -> FloatArray:
+        """Closed-form ρ (see class Notes). [mm]"""
+        f, e = self.pivot_distance_mm, self.face_offset_mm
+        xi = self.initial_angle_rad + lift
+        one_v = 1.0 - velocity
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.asarray(
+                f * np.sin(xi)
+                + e
+                + f * (acceleration * np.cos(xi) / one_v**3 - velocity**2 * np.sin(xi) / one_v**2)
+            )
+
+    def nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """IT-grade nominal sizes: max radial dimension for r and n, f, |e|."""
+        return {
+            "r": max_radius_mm,
+            "n": max_radius_mm,
+            "f": self.pivot_distance_mm,
+            "e": abs(self.face_offset_mm),
+        }[key]
+
+    def summary(self) -> list[tuple[str, str]]:
+        """Parameters with units."""
+        return [
+            ("follower", "oscillating flat-faced"),
+            ("base radius r_b", f"{self.base_radius_mm:g} mm"),
+            ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
+            ("face offset e", f"{self.face_offset_mm:g} mm"),
+            ("initial follower angle ξ0", f"{math.degrees(self.initial_angle_rad):.4f}°"),
+        ]

@@ -1,0 +1,153 @@
+"""Offset translating oblique flat-faced follower (THEORY §2.1, §3.1; [CW06] §2.1, §3).
+
+References
+----------
+.. [CW06] W.-T. Chang, L.-I. Wu, "Mechanical error analysis of disk cam mechanisms with a
+   flat-faced follower", J. Mech. Sci. Technol. 20(3):345-357, 2006.
+   doi:10.1007/BF02916465
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from camtol import jet
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray, JetLike
+from camtol.mechanisms.base import (
+    ContactGeometry,
+    ErrorSource,
+    Mechanism,
+    OutputKind,
+    require_finite,
+    require_positive,
+    shift_angle,
+)
+
+__all__ = ["FlatTranslating"]
+
+
+@dataclass(frozen=True)
+class FlatTranslating(Mechanism):
+    r"""Offset translating oblique flat-faced follower.
+
+    Parameters
+    ----------
+    base_radius_mm : float
+        Base-circle radius r_b. [mm]
+    offset_mm : float
+        Offset e of the translation line; e > 0 puts the offset point E on the side of Q
+        when q > 0 (THEORY §2.1). [mm]
+    face_angle_rad : float
+        Face obliquity φ, the constant pressure angle; φ > 0 turns the face normal
+        counterclockwise. [rad]
+
+    Notes
+    -----
+    In the cam frame (THEORY §2.1) the translation direction is t = (cos θ, sin θ) and the
+    face normal n = (cos(θ+φ), sin(θ+φ)):
+
+    .. math::
+
+        L = r_b \sec φ - e \tan φ + S,\quad q = V,\quad
+        QA = L\cos φ - (q - e)\sin φ,\quad u = L \sin φ + (q - e)\cos φ
+
+    and A = (QA cos(θ+φ) − q sin θ, QA sin(θ+φ) + q cos θ). The support function of the
+    profile in the face-normal direction is p = A·n = r_b + S cos φ, which gives the radius
+    of curvature of the profile in closed form, ρ = p + d²p/dψ² = r_b + (S + A) cos φ
+    (ψ = θ + φ); with φ = 0 this is THEORY's r_b + S + A.
+    """
+
+    base_radius_mm: float
+    offset_mm: float = 0.0
+    face_angle_rad: float = 0.0
+
+    kind: ClassVar[str] = "flat_translating"
+    output: ClassVar[OutputKind] = "translating"
+    sources: ClassVar[tuple[ErrorSource, ...]] = (
+        ErrorSource("r", "radial profile error Δr", "mm"),
+        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("e", "offset error Δe", "mm"),
+        ErrorSource("phi", "face-angle error Δφ", "rad"),
+    )
+
+    def __post_init__(self) -> None:
+        require_positive("follower.base_radius_mm", self.base_radius_mm)
+        require_finite("follower.offset_mm", self.offset_mm)
+        require_finite("follower.face_angle_deg", self.face_angle_rad)
+        if not abs(self.face_angle_rad) < math.pi / 2:
+            raise DesignError(
+                f"follower.face_angle_deg={math.degrees(self.face_angle_rad):g} is not allowed;"
+                " the face obliquity is the pressure angle and must lie strictly between"
+                " -90 and 90"
+            )
+
+    def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
+        """Contact point, instant centre, λ and u (THEORY §2.1, CW06 eqs. 1-10).
+
+        Extras: ``face_contact`` u = |PA|, signed distance along the face from the
+        reference point P to the contact point [mm].
+        """
+        phi, e = self.face_angle_rad, self.offset_mm
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        big_l = self.base_radius_mm / cphi - e * math.tan(phi) + lift
+        q = velocity
+        qa = big_l * cphi - (q - e) * sphi
+        s, c = jet.sin(theta), jet.cos(theta)
+        ax = qa * jet.cos(theta + phi) - q * s
+        ay = qa * jet.sin(theta + phi) + q * c
+        qx, qy = -q * s, q * c
+        u = big_l * sphi + (q - e) * cphi
+        pressure = jet.value(theta) * 0.0 + phi
+        return ContactGeometry(
+            ax, ay, qx, qy, q, pressure, shift_angle(ax, ay, qx, qy), {"face_contact": u}
+        )
+
+    def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
+        """ΔS per unit error (THEORY §3.1, CW06 eqs. 22-30).
+
+        ΔS_r = Δr cos λ / cos φ, ΔS_n = Δn / cos φ, ΔS_e = −Δe tan φ,
+        ΔS_φ = u Δφ / cos φ. Outputs in mm per mm, or mm per rad for φ.
+        """
+        cphi = math.cos(self.face_angle_rad)
+        zero = jet.value(theta) * 0.0
+        return {
+            "r": jet.cos(geometry.shift_angle) / cphi,
+            "n": zero + 1.0 / cphi,
+            "e": zero - math.tan(self.face_angle_rad),
+            "phi": geometry.extras["face_contact"] / cphi,
+        }
+
+    def curvature_radius(
+        self,
+        theta_rad: FloatArray,
+        lift: FloatArray,
+        velocity: FloatArray,
+        acceleration: FloatArray,
+    ) -> FloatArray:
+        """ρ = r_b + (S + A) cos φ (closed form, see class Notes). [mm]"""
+        return np.asarray(
+            self.base_radius_mm + (lift + acceleration) * math.cos(self.face_angle_rad)
+        )
+
+    def nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """IT-grade nominal sizes: max radial dimension for r and n, |e|, |φ| in degrees."""
+        return {
+            "r": max_radius_mm,
+            "n": max_radius_mm,
+            "e": abs(self.offset_mm),
+            "phi": abs(math.degrees(self.face_angle_rad)),
+        }[key]
+
+    def summary(self) -> list[tuple[str, str]]:
+        """Parameters with units."""
+        return [
+            ("follower", "translating oblique flat-faced"),
+            ("base radius r_b", f"{self.base_radius_mm:g} mm"),
+            ("offset e", f"{self.offset_mm:g} mm"),
+            ("face angle φ", f"{math.degrees(self.face_angle_rad):g}°"),
+        ]

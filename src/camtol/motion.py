@@ -1,0 +1,519 @@
+"""Motion programs: follower lift S(θ) and its derivatives V, A, J (THEORY §1).
+
+A program is a sequence of segments covering one revolution exactly (rise, dwell, return,
+blends) or a lift table through a periodic spline. Derivatives are *reduced* derivatives
+per radian of cam angle (THEORY §0): V = dS/dθ, A = d²S/dθ², J = d³S/dθ³. The unit of S
+is the follower's: mm for a translating follower, rad for an oscillating one.
+
+Segment programs know their boundaries. At a boundary angle the value is taken from the
+segment that *starts* there (right limit) unless the left limit is asked for, so that
+jumps of A and J are represented exactly rather than smeared.
+
+References
+----------
+.. [1] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed., Industrial Press,
+   2009, ch. 3 (modified trapezoid and modified sine laws).
+.. [2] H. A. Rothbart (ed.), *Cam Design Handbook*, McGraw-Hill, 2004.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Literal, get_args
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from camtol.exceptions import DesignError
+
+FloatArray = NDArray[np.float64]
+
+MotionLawName = Literal[
+    "cycloidal",
+    "simple_harmonic",
+    "polynomial_345",
+    "polynomial_4567",
+    "modified_trapezoid",
+    "modified_sine",
+    "constant_velocity",
+]
+SegmentKind = Literal["rise", "return", "dwell"]
+MOTION_LAWS: tuple[str, ...] = get_args(MotionLawName)
+TWO_PI = 2.0 * math.pi
+
+__all__ = [
+    "MOTION_LAWS",
+    "LiftTable",
+    "MotionLawName",
+    "MotionProgram",
+    "MotionState",
+    "Segment",
+    "SegmentProgram",
+    "normalized_law",
+]
+
+
+@dataclass(frozen=True)
+class MotionState:
+    """Follower motion over a θ grid (THEORY §0, §1).
+
+    Attributes
+    ----------
+    lift : ndarray
+        S(θ). [mm, or rad for an oscillating follower]
+    velocity : ndarray
+        V = dS/dθ. [mm/rad, or rad/rad]
+    acceleration : ndarray
+        A = d²S/dθ². [mm/rad², or rad/rad²]
+    jerk : ndarray
+        J = d³S/dθ³. [mm/rad³, or rad/rad³]
+    """
+
+    lift: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+    jerk: FloatArray
+
+
+# ---------------------------------------------------------------------------------------
+# Normalised laws: s(x), v = ds/dx, a = d²s/dx², j = d³s/dx³, with s(0)=0, s(1)=1.
+# ---------------------------------------------------------------------------------------
+NormalizedLaw = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]]
+
+
+def _cycloidal(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    w = TWO_PI * x
+    return (
+        x - np.sin(w) / TWO_PI,
+        1.0 - np.cos(w),
+        TWO_PI * np.sin(w),
+        TWO_PI**2 * np.cos(w),
+    )
+
+
+def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    w = math.pi * x
+    return (
+        0.5 * (1.0 - np.cos(w)),
+        0.5 * math.pi * np.sin(w),
+        0.5 * math.pi**2 * np.cos(w),
+        -0.5 * math.pi**3 * np.sin(w),
+    )
+
+
+def _polynomial(coefficients: Sequence[float]) -> NormalizedLaw:
+    """Return a law s(x) = Σ c_k x^k with its analytic derivatives."""
+    p0 = np.polynomial.Polynomial(coefficients)
+    p1, p2, p3 = p0.deriv(1), p0.deriv(2), p0.deriv(3)
+
+    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        return p0(x), p1(x), p2(x), p3(x)
+
+    return law
+
+
+@dataclass(frozen=True)
+class _SinePiece:
+    """Acceleration a(x) = c + q sin(k x + p) on [x0, x1), integrated exactly."""
+
+    x0: float
+    c: float
+    q: float
+    k: float
+    p: float
+    v0: float = 0.0
+    s0: float = 0.0
+
+    def evaluate(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        d = x - self.x0
+        if self.k == 0.0:
+            a = np.full_like(x, self.c + self.q * math.sin(self.p))
+            return self.s0 + self.v0 * d + 0.5 * a * d * d, self.v0 + a * d, a, np.zeros_like(x)
+        ph = self.k * x + self.p
+        ph0 = self.k * self.x0 + self.p
+        a = self.c + self.q * np.sin(ph)
+        j = self.q * self.k * np.cos(ph)
+        v = self.v0 + self.c * d - self.q / self.k * (np.cos(ph) - math.cos(ph0))
+        s = (
+            self.s0
+            + self.v0 * d
+            + 0.5 * self.c * d * d
+            - self.q / self.k * ((np.sin(ph) - math.sin(ph0)) / self.k - math.cos(ph0) * d)
+        )
+        return s, v, a, j
+
+
+def _piecewise_sine_law(
+    pieces: Sequence[tuple[float, float, float, float, float]],
+) -> NormalizedLaw:
+    """Build a law from acceleration pieces (x0, c, q, k, p), normalised to s(1) = 1.
+
+    Velocity and displacement are carried exactly across piece ends, and the whole law
+    is then scaled so that s(1) = 1; the peak factors of Norton's tables (e.g. 4.8881 for
+    the modified trapezoid) follow from the shape instead of being typed in.
+    """
+    built: list[_SinePiece] = []
+    v0 = s0 = 0.0
+    for i, (x0, c, q, k, p) in enumerate(pieces):
+        piece = _SinePiece(x0, c, q, k, p, v0, s0)
+        built.append(piece)
+        x1 = pieces[i + 1][0] if i + 1 < len(pieces) else 1.0
+        s1, v1, _, _ = piece.evaluate(np.array([x1]))
+        s0, v0 = float(s1[0]), float(v1[0])
+    scale = 1.0 / s0
+    starts = np.array([pc.x0 for pc in built])
+
+    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(built) - 1)
+        out = [np.empty_like(x) for _ in range(4)]
+        for i, piece in enumerate(built):
+            m = idx == i
+            if np.any(m):
+                for arr, val in zip(out, piece.evaluate(x[m]), strict=True):
+                    arr[m] = val * scale
+        return out[0], out[1], out[2], out[3]
+
+    return law
+
+
+_FOUR_PI = 4.0 * math.pi
+# Modified trapezoid (Norton): sine ramps of 1/8 around constant-acceleration flats.
+_MODIFIED_TRAPEZOID = _piecewise_sine_law(
+    [
+        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
+        (0.125, 1.0, 0.0, 0.0, 0.0),
+        (0.375, 0.0, 1.0, _FOUR_PI, math.pi / 2 - _FOUR_PI * 0.375),
+        (0.625, -1.0, 0.0, 0.0, 0.0),
+        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
+    ]
+)
+# Modified sine (Norton): quarter-period sine of 1/8, then a sine three times longer.
+_MODIFIED_SINE = _piecewise_sine_law(
+    [
+        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
+        (0.125, 0.0, 1.0, _FOUR_PI / 3.0, math.pi / 2 - _FOUR_PI / 3.0 * 0.125),
+        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
+    ]
+)
+
+
+def _constant_velocity(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    return x.copy(), np.ones_like(x), np.zeros_like(x), np.zeros_like(x)
+
+
+_LAWS: dict[str, NormalizedLaw] = {
+    "cycloidal": _cycloidal,
+    "simple_harmonic": _simple_harmonic,
+    "polynomial_345": _polynomial([0, 0, 0, 10, -15, 6]),
+    "polynomial_4567": _polynomial([0, 0, 0, 0, 35, -84, 70, -20]),
+    "modified_trapezoid": _MODIFIED_TRAPEZOID,
+    "modified_sine": _MODIFIED_SINE,
+    "constant_velocity": _constant_velocity,
+}
+
+
+def normalized_law(name: str) -> NormalizedLaw:
+    """Return the normalised law ``x -> (s, ds/dx, d²s/dx², d³s/dx³)``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`MOTION_LAWS`.
+
+    Raises
+    ------
+    DesignError
+        If the law is unknown.
+    """
+    try:
+        return _LAWS[name]
+    except KeyError:
+        raise DesignError(
+            f"motion law {name!r} is unknown; allowed: {', '.join(MOTION_LAWS)}"
+        ) from None
+
+
+# ---------------------------------------------------------------------------------------
+# Segments and programs
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Segment:
+    """One segment of a motion program (THEORY §1).
+
+    Parameters
+    ----------
+    kind : {"rise", "return", "dwell"}
+        What the follower does.
+    start_rad, end_rad : float
+        Cam angles bounding the segment, end > start. [rad]
+    law : str
+        Motion law for a rise or return (ignored for a dwell).
+    height : float
+        Lift change h > 0 of a rise or return (a return descends by h); 0 for a dwell.
+        [mm, or rad for an oscillating follower]
+    """
+
+    kind: SegmentKind
+    start_rad: float
+    end_rad: float
+    law: str = "cycloidal"
+    height: float = 0.0
+
+    @property
+    def duration_rad(self) -> float:
+        """Segment length β. [rad]"""
+        return self.end_rad - self.start_rad
+
+    @property
+    def signed_height(self) -> float:
+        """Lift change over the segment: +h rise, −h return, 0 dwell."""
+        return {"rise": self.height, "return": -self.height, "dwell": 0.0}[self.kind]
+
+
+class MotionProgram:
+    """Interface of a motion program: S, V, A, J over the θ grid."""
+
+    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+        """Return S, V, A, J at the cam angles (left limits where ``left_limit``)."""
+        raise NotImplementedError
+
+    @property
+    def boundaries_rad(self) -> FloatArray:
+        """Angles where the program's derivatives may jump, in [0, 2π). [rad]"""
+        raise NotImplementedError
+
+    @property
+    def total_travel(self) -> float:
+        """Largest minus smallest lift over a revolution. [mm, or rad]"""
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        """One-line human summary."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class SegmentProgram(MotionProgram):
+    """A program made of contiguous segments covering exactly one revolution.
+
+    Parameters
+    ----------
+    segments : sequence of Segment
+        Contiguous segments; their total span must be exactly 2π and the program must
+        return to its starting lift.
+
+    Raises
+    ------
+    DesignError
+        If a law is unknown, a segment is empty, segments are not contiguous, they do not
+        cover 360°, or the lift does not return to its start.
+    """
+
+    segments: tuple[Segment, ...]
+    _starts: FloatArray = field(init=False, repr=False, compare=False)
+    _levels: FloatArray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        segs = self.segments
+        if not segs:
+            raise DesignError("motion.segments is empty; give at least one segment")
+        tol = 1e-9
+        for i, seg in enumerate(segs):
+            where = f"motion.segments[{i}]"
+            if seg.kind not in get_args(SegmentKind):
+                raise DesignError(
+                    f"{where}.kind={seg.kind!r} is unknown; allowed: rise, return, dwell"
+                )
+            if seg.kind != "dwell":
+                normalized_law(seg.law)
+                if not seg.height > 0:
+                    raise DesignError(f"{where}.height={seg.height:g} must be > 0 for a {seg.kind}")
+            if not seg.duration_rad > 0:
+                raise DesignError(
+                    f"{where} spans {math.degrees(seg.start_rad):g}.."
+                    f"{math.degrees(seg.end_rad):g}°; the end must be after the start"
+                )
+            if i and abs(seg.start_rad - segs[i - 1].end_rad) > tol:
+                raise DesignError(
+                    f"{where}.start={math.degrees(seg.start_rad):g}° does not continue the"
+                    f" previous segment's end {math.degrees(segs[i - 1].end_rad):g}°;"
+                    " segments must be contiguous"
+                )
+        span = segs[-1].end_rad - segs[0].start_rad
+        if abs(span - TWO_PI) > tol:
+            raise DesignError(
+                f"motion.segments cover {math.degrees(span):.6g}°; they must cover exactly 360°"
+            )
+        levels = np.cumsum([0.0] + [s.signed_height for s in segs])
+        if abs(levels[-1]) > 1e-9 * max(1.0, float(np.max(np.abs(levels)))):
+            raise DesignError(
+                f"motion.segments end at lift {levels[-1]:g} above where they start;"
+                " rises and returns must balance over a revolution"
+            )
+        object.__setattr__(self, "_starts", np.array([s.start_rad for s in segs]))
+        object.__setattr__(self, "_levels", levels[:-1] - levels.min())
+
+    @property
+    def boundaries_rad(self) -> FloatArray:
+        """Segment start angles, wrapped to [0, 2π). [rad]"""
+        return np.sort(np.mod(self._starts, TWO_PI))
+
+    @property
+    def total_travel(self) -> float:
+        """Largest minus smallest lift. [mm, or rad]"""
+        levels = np.append(self._levels, self._levels[0])
+        return float(levels.max() - levels.min())
+
+    def describe(self) -> str:
+        """Summarise the segments, e.g. ``rise 22 cycloidal 0-120°, dwell 120-190°``."""
+        parts = []
+        for s in self.segments:
+            span = f"{math.degrees(s.start_rad):g}-{math.degrees(s.end_rad):g}°"
+            parts.append(
+                f"dwell {span}" if s.kind == "dwell" else f"{s.kind} {s.height:g} {s.law} {span}"
+            )
+        return ", ".join(parts)
+
+    def segment_index(
+        self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None
+    ) -> NDArray[np.intp]:
+        """Index of the segment each angle belongs to (the one starting there, or ending)."""
+        t = self._wrap(theta_rad)
+        idx = np.searchsorted(self._starts, t, side="right") - 1
+        if left_limit is not None:
+            left = np.broadcast_to(np.asarray(left_limit, dtype=bool), t.shape)
+            idx_left = np.searchsorted(self._starts, t, side="left") - 1
+            idx = np.where(left, idx_left, idx)
+        return np.mod(idx, len(self.segments))
+
+    def _wrap(self, theta_rad: ArrayLike) -> FloatArray:
+        start = self._starts[0]
+        t = np.mod(np.asarray(theta_rad, dtype=float) - start, TWO_PI) + start
+        return np.asarray(t, dtype=float)
+
+    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+        """Return S, V, A, J at ``theta_rad``.
+
+        Parameters
+        ----------
+        theta_rad : array_like
+            Cam angles; any real values (the program is periodic). [rad]
+        left_limit : array_like of bool, optional
+            Where True, an angle lying on a segment boundary takes the limit from the
+            segment that ends there instead of the one that starts there.
+
+        Returns
+        -------
+        MotionState
+            Arrays of the shape of ``theta_rad``.
+        """
+        theta = np.asarray(theta_rad, dtype=float)
+        t = np.atleast_1d(self._wrap(theta))
+        idx = np.atleast_1d(self.segment_index(theta, left_limit=left_limit))
+        out = [np.zeros_like(t) for _ in range(4)]
+        for i, seg in enumerate(self.segments):
+            m = idx == i
+            if not np.any(m):
+                continue
+            if seg.kind == "dwell":
+                out[0][m] = self._levels[i]
+                continue
+            beta = seg.duration_rad
+            # A left limit at the segment's start wraps to +2π; map it back into the segment.
+            tm = t[m]
+            tm = np.where(tm < seg.start_rad - 1e-12, tm + TWO_PI, tm)
+            tm = np.where(tm > seg.end_rad + 1e-12, tm - TWO_PI, tm)
+            x = (tm - seg.start_rad) / beta
+            s, v, a, j = normalized_law(seg.law)(x)
+            h = seg.signed_height
+            out[0][m] = self._levels[i] + h * s
+            out[1][m] = h * v / beta
+            out[2][m] = h * a / beta**2
+            out[3][m] = h * j / beta**3
+        shape = theta.shape
+        return MotionState(*(o.reshape(shape) for o in out))
+
+
+@dataclass(frozen=True)
+class LiftTable(MotionProgram):
+    """A program given as a table of lifts at equally spaced cam angles (THEORY §1, §6).
+
+    The lifts are interpolated by a periodic cubic spline (scipy); V, A and J are the
+    spline's derivatives. Those derivatives depend on the table's precision: rounding the
+    table to a quantum Q perturbs A by up to about 4·(Q/2)/Δθ² (THEORY §6.1). J is
+    piecewise constant and jumps at every tabulated angle.
+
+    Parameters
+    ----------
+    theta_rad : ndarray
+        Equally spaced angles covering one revolution, without the closing 360°. [rad]
+    lift : ndarray
+        Lifts at those angles. [mm, or rad for an oscillating follower]
+
+    Raises
+    ------
+    DesignError
+        If the angles are not equally spaced over one revolution or the table is short.
+    """
+
+    theta_rad: FloatArray
+    lift: FloatArray
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.theta_rad, dtype=float)
+        s = np.asarray(self.lift, dtype=float)
+        if t.ndim != 1 or t.shape != s.shape or t.size < 8:
+            raise DesignError(
+                f"motion.table needs at least 8 (angle, lift) pairs of equal length; got"
+                f" {t.size} angles and {s.size} lifts"
+            )
+        if not np.all(np.isfinite(s)):
+            raise DesignError("motion.table lifts must be finite numbers")
+        step = TWO_PI / t.size
+        if not np.allclose(np.diff(t), step, rtol=0, atol=1e-9) or abs(t[0]) > 1e-9:
+            raise DesignError(
+                f"motion.table angles must start at 0° and be equally spaced over 360° "
+                f"(expected a step of {math.degrees(step):g}° for {t.size} entries)"
+            )
+
+    @property
+    def step_rad(self) -> float:
+        """Table spacing Δθ. [rad]"""
+        return TWO_PI / self.theta_rad.size
+
+    @property
+    def _spline(self):  # type: ignore[no-untyped-def]  # cached scipy object
+        return _periodic_spline(self.theta_rad.tobytes(), self.lift.tobytes())
+
+    @property
+    def boundaries_rad(self) -> FloatArray:
+        """The tabulated angles, where J jumps. [rad]"""
+        return np.asarray(self.theta_rad, dtype=float)
+
+    @property
+    def total_travel(self) -> float:
+        """Largest minus smallest tabulated lift. [mm, or rad]"""
+        return float(np.ptp(self.lift))
+
+    def describe(self) -> str:
+        """Summarise the table."""
+        return f"lift table of {self.theta_rad.size} entries every {math.degrees(self.step_rad):g}°"
+
+    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+        """Return S, V, A, J from the periodic spline (``left_limit`` is ignored)."""
+        theta = np.asarray(theta_rad, dtype=float)
+        t = np.mod(theta, TWO_PI)
+        sp = self._spline
+        return MotionState(sp(t), sp(t, 1), sp(t, 2), sp(t, 3))
+
+
+@cache
+def _periodic_spline(t_bytes: bytes, s_bytes: bytes):  # type: ignore[no-untyped-def]
+    from scipy.interpolate import CubicSpline  # lazy: keep the core import light
+
+    t = np.frombuffer(t_bytes)
+    s = np.frombuffer(s_bytes)
+    return CubicSpline(np.append(t, TWO_PI), np.append(s, s[0]), bc_type="periodic")
