@@ -290,8 +290,8 @@ class MotionProgram:
         """Largest minus smallest lift over a revolution. [mm, or rad]"""
         raise NotImplementedError
 
-    def describe(self) -> str:
-        """One-line human summary."""
+    def describe(self, *, unit: str = "", scale: float = 1.0) -> str:
+        """One-line human summary; heights scaled by ``scale`` and shown in ``unit``."""
         raise NotImplementedError
 
 
@@ -367,14 +367,17 @@ class SegmentProgram(MotionProgram):
         levels = np.append(self._levels, self._levels[0])
         return float(levels.max() - levels.min())
 
-    def describe(self) -> str:
-        """Summarise the segments, e.g. ``rise 22 cycloidal 0-120°, dwell 120-190°``."""
+    def describe(self, *, unit: str = "", scale: float = 1.0) -> str:
+        """Summarise, e.g. ``rise 22 mm cycloidal 0-120°, dwell 120-190°``.
+
+        ``scale`` converts heights to ``unit`` (e.g. 180/π and "°" for an oscillating
+        follower).
+        """
         parts = []
         for s in self.segments:
             span = f"{math.degrees(s.start_rad):g}-{math.degrees(s.end_rad):g}°"
-            parts.append(
-                f"dwell {span}" if s.kind == "dwell" else f"{s.kind} {s.height:g} {s.law} {span}"
-            )
+            h = f"{s.height * scale:.6g}{unit}"
+            parts.append(f"dwell {span}" if s.kind == "dwell" else f"{s.kind} {h} {s.law} {span}")
         return ", ".join(parts)
 
     def segment_index(
@@ -498,7 +501,7 @@ class LiftTable(MotionProgram):
         """Largest minus smallest tabulated lift. [mm, or rad]"""
         return float(np.ptp(self.lift))
 
-    def describe(self) -> str:
+    def describe(self, *, unit: str = "", scale: float = 1.0) -> str:
         """Summarise the table."""
         return f"lift table of {self.theta_rad.size} entries every {math.degrees(self.step_rad):g}°"
 

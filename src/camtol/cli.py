@@ -1,0 +1,219 @@
+"""The ``camtol`` command: a thin layer over the library (STYLE point 15).
+
+It parses arguments, calls the public API, prints or writes, and maps camtol's errors to
+one line on stderr. Exit codes: 0 ok, 1 out of tolerance (an inspected part fails), 2 usage
+error, bad input or a design that cannot work. Files are written only after the analysis
+succeeded, and atomically (no half-written output).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+from camtol import __version__
+from camtol.exceptions import CamtolError
+
+__all__ = ["main", "cli", "load_input", "run_guarded", "EXIT_OK", "EXIT_FAIL", "EXIT_USAGE"]
+
+EXIT_OK = 0
+EXIT_FAIL = 1
+EXIT_USAGE = 2
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+class _Exit(Exception):
+    """Carry an exit status out of a command without click's SystemExit."""
+
+    def __init__(self, code: int) -> None:
+        self.code = code
+
+
+def fail(message: str, code: int = EXIT_USAGE) -> None:
+    """Print one error line to stderr and leave with ``code``."""
+    click.echo(f"camtol: error: {message}", err=True)
+    raise _Exit(code)
+
+
+def load_input(design: str | None, example: str | None) -> Any:
+    """Load a design from a path or a built-in example name (exactly one of them)."""
+    from camtol.config import load_design, load_example
+
+    if (design is None) == (example is None):
+        fail("give either a DESIGN.toml file or --example NAME (see `camtol examples`)")
+    return load_example(example) if example is not None else load_design(str(design))
+
+
+def check_output_path(path: str | None, option: str, suffixes: Sequence[str]) -> None:
+    """Reject an output path with a wrong suffix or a missing directory, before any work."""
+    if path is None:
+        return
+    p = Path(path)
+    if p.suffix.lower() not in suffixes:
+        fail(f"{option}={path!r}: the file name must end in {' or '.join(suffixes)}")
+    if not p.parent.exists():
+        fail(f"{option}={path!r}: directory {str(p.parent)!r} does not exist")
+
+
+def run_guarded(fn: Callable[[], int | None]) -> int:
+    """Run a command body; camtol errors become one stderr line and exit status 2."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            code = fn()
+        except CamtolError as exc:
+            click.echo(f"camtol: error: {exc}", err=True)
+            code = EXIT_USAGE
+        finally:
+            for w in caught:
+                click.echo(f"camtol: warning: {w.message}", err=True)
+    return EXIT_OK if code is None else code
+
+
+def design_options(f: F) -> F:
+    """Add the DESIGN argument and --example option."""
+    f = click.option(
+        "--example", "-e", metavar="NAME", help="Use a built-in example (see `camtol examples`)."
+    )(f)
+    f = click.argument("design", required=False, type=click.Path(dir_okay=False))(f)
+    return f
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="camtol")
+def cli() -> None:
+    """Precision disk cams: design, tolerance, inspection and manufacturing.
+
+    Exit status: 0 ok, 1 out of tolerance, 2 usage error or invalid input/design.
+    """
+
+
+@cli.command()
+@design_options
+@click.option(
+    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.option(
+    "--curves",
+    metavar="FILE.csv",
+    help="Write one row per angle: profile, angles and every error curve (units in columns).",
+)
+@click.option("--plot", metavar="FILE.png", help="Write the paper-style figure (PNG, SVG, PDF).")
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing on success (exit status only).")
+def analyze(
+    design: str | None,
+    example: str | None,
+    step_deg: float,
+    as_json: bool,
+    curves: str | None,
+    plot: str | None,
+    quiet: bool,
+) -> None:
+    """Analyse a design: profile, pressure and shift angles, and the follower's errors.
+
+    Reports the extremes over 0-360° of every quantity, the error of each toleranced
+    source, the worst case and RMS, and the accuracy grade of the output (THEORY §3).
+    """
+
+    def body() -> int:
+        check_output_path(curves, "--curves", [".csv"])
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        from camtol.analysis import analyse
+        from camtol.report import tables
+
+        a = analyse(load_input(design, example), step_deg=step_deg)
+        if curves:
+            tables.write_curves_csv(a, curves)
+        if plot:
+            _save_figure(a, plot)
+        if as_json:
+            click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
+        elif not quiet:
+            tables.print_analysis(a)
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    return str(o)
+
+
+def _save_figure(analysis: Any, path: str) -> None:
+    import os
+    import tempfile
+
+    from camtol.report.plots import analysis_figure
+
+    fig = analysis_figure(analysis)
+    p = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format=p.suffix.lstrip(".").lower())
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+@cli.group(invoke_without_command=True)
+@click.pass_context
+def examples(ctx: click.Context) -> None:
+    """List the built-in example designs (`camtol examples show NAME` prints one)."""
+    if ctx.invoked_subcommand is None:
+        from camtol.config import example_names, example_summary
+
+        for name in example_names():
+            click.echo(f"{name:20s} {example_summary(name)}")
+
+
+@examples.command("show")
+@click.argument("name")
+def examples_show(name: str) -> None:
+    """Print the TOML of a built-in example, to start a design from it."""
+
+    def body() -> int:
+        from camtol.config import example_text
+
+        click.echo(example_text(name), nl=False)
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    """Run the command line; return the exit status (0 ok, 1 out of tolerance, 2 usage)."""
+    try:
+        cli.main(args=list(args) if args is not None else None, standalone_mode=False)
+    except _Exit as e:
+        return e.code
+    except click.ClickException as e:
+        click.echo(f"camtol: error: {e.format_message()}", err=True)
+        return EXIT_USAGE
+    except click.exceptions.Abort:
+        click.echo("camtol: aborted", err=True)
+        return EXIT_USAGE
+    except click.exceptions.Exit as e:
+        return int(e.exit_code)
+    return EXIT_OK
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
+
+
+def console_main() -> None:
+    """Entry point of the ``camtol`` console script."""
+    sys.exit(main())
