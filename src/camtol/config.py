@@ -205,11 +205,11 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
                     f"{where}.lift_{wrong} is not allowed: {kind} follower's lift is given as"
                     f" lift_{unit}"
                 )
-            lift = s.lift_deg if oscillating else s.lift_mm
+            seg_lift = s.lift_deg if oscillating else s.lift_mm
             if s.kind == "dwell":
-                if lift is not None or s.law is not None:
+                if seg_lift is not None or s.law is not None:
                     raise ConfigError(f"{where}: a dwell takes no law and no lift_{unit}")
-            elif lift is None:
+            elif seg_lift is None:
                 raise ConfigError(f"{where}.lift_{unit} is missing: a {s.kind} needs its height")
             start = s.start_deg if s.start_deg is not None else prev_end
             if start is None:
@@ -221,7 +221,7 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
                     math.radians(start),
                     math.radians(s.end_deg),
                     s.law or "cycloidal",
-                    (lift or 0.0) * scale,
+                    (seg_lift or 0.0) * scale,
                 )
             )
         return SegmentProgram(tuple(segs))

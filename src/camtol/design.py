@@ -131,7 +131,7 @@ class CamDesign:
             raise DesignError(f"operation.speed_rpm={self.speed_rpm:g} must be > 0")
 
     def describe_motion(self) -> str:
-        """Describe the motion program in file units (mm, or degrees for an oscillating follower)."""
+        """Describe the motion program in file units (mm, or degrees when oscillating)."""
         if self.mechanism.output == "translating":
             return self.program.describe(unit=" mm")
         return self.program.describe(unit="°", scale=180.0 / math.pi)

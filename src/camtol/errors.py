@@ -23,7 +23,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import contact_jets
 
 __all__ = ["ErrorAnalysis", "SourceError", "error_analysis"]
 
@@ -96,8 +95,12 @@ def _combine(parts: Sequence[FloatArray], like: FloatArray) -> tuple[FloatArray,
     if not parts:
         z = np.zeros_like(like)
         return z, z.copy()
-    stack = np.stack(parts)
-    return np.sum(np.abs(stack), axis=0), np.sqrt(np.sum(stack * stack, axis=0))
+    worst = np.abs(parts[0])
+    square = parts[0] * parts[0]
+    for p in parts[1:]:
+        worst += np.abs(p)
+        square += p * p
+    return worst, np.sqrt(square, out=square)
 
 
 def error_analysis(
@@ -129,8 +132,11 @@ def error_analysis(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     motion = design.program.evaluate(theta, left_limit=left)
-    geometry = contact_jets(design, theta, motion)
-    sens = design.mechanism.sensitivities(geometry, Jet.variable(theta))
+    sens = design.mechanism.error_sensitivities(
+        Jet.variable(theta),
+        Jet(motion.lift, motion.velocity, motion.acceleration),
+        Jet(motion.velocity, motion.acceleration, motion.jerk),
+    )
     sources: dict[str, SourceError] = {}
     for tol in tolerances:
         s = _as_jet(sens[tol.key], theta)

@@ -75,7 +75,10 @@ class Jet:
     # --- arithmetic -------------------------------------------------------------------
     def _chain(self, g0: FloatArray, g1: FloatArray, g2: FloatArray) -> Jet:
         """Compose g∘f given g(f), g'(f), g''(f)."""
-        return Jet(g0, g1 * self.d1, g2 * self.d1 * self.d1 + g1 * self.d2)
+        d2 = g2 * self.d1
+        d2 *= self.d1
+        d2 += g1 * self.d2
+        return Jet(g0, g1 * self.d1, d2)
 
     def __add__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):
@@ -88,18 +91,25 @@ class Jet:
         return Jet(-self.v, -self.d1, -self.d2)
 
     def __sub__(self, other: JetLike) -> Jet:
-        return self + (-other)
+        if isinstance(other, Jet):
+            return Jet(self.v - other.v, self.d1 - other.d1, self.d2 - other.d2)
+        return Jet(self.v - other, self.d1, self.d2)
 
     def __rsub__(self, other: JetLike) -> Jet:
-        return (-self) + other
+        if isinstance(other, Jet):  # pragma: no cover - Jet - Jet uses __sub__
+            return other - self
+        return Jet(other - self.v, -self.d1, -self.d2)
 
     def __mul__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):
-            return Jet(
-                self.v * other.v,
-                self.d1 * other.v + self.v * other.d1,
-                self.d2 * other.v + 2.0 * self.d1 * other.d1 + self.v * other.d2,
-            )
+            # (fg)' = f'g + fg',  (fg)'' = f''g + 2f'g' + fg''; in-place to spare temporaries
+            d1 = self.d1 * other.v
+            d1 += self.v * other.d1
+            d2 = self.d1 * other.d1
+            d2 *= 2.0
+            d2 += self.d2 * other.v
+            d2 += self.v * other.d2
+            return Jet(self.v * other.v, d1, d2)
         return Jet(self.v * other, self.d1 * other, self.d2 * other)
 
     __rmul__ = __mul__

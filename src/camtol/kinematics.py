@@ -208,12 +208,14 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
             f"the contact geometry is undefined at θ={deg[i]:.2f}° (follower cannot reach the"
             " cam there); check the dimensions"
         )
-    i = int(np.argmin(kin.curvature_radius_mm))
-    if kin.curvature_radius_mm[i] <= 0:
+    undercut = design.mechanism.undercut_mask(kin.curvature_radius_mm)
+    if np.any(undercut):
+        i = int(np.argmin(np.where(undercut, kin.curvature_radius_mm, np.inf)))
         raise UndercutError(
             f"the profile is not convex: radius of curvature {kin.curvature_radius_mm[i]:.4g} mm"
             f" at θ={deg[i]:.2f}° (cusp/undercut); a {design.mechanism.kind} follower needs"
-            " ρ > 0 everywhere: increase the base radius or lengthen the motion"
+            " ρ > 0 everywhere (a roller: a convex pitch-curve radius larger than the roller):"
+            " increase the base radius or lengthen the motion"
         )
     pa = np.abs(kin.pressure_angle_rad)
     j = int(np.argmax(pa))

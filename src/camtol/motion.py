@@ -381,10 +381,13 @@ class SegmentProgram(MotionProgram):
         return ", ".join(parts)
 
     def segment_index(
-        self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None
+        self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None, wrapped: bool = False
     ) -> NDArray[np.intp]:
-        """Index of the segment each angle belongs to (the one starting there, or ending)."""
-        t = self._wrap(theta_rad)
+        """Index of the segment each angle belongs to (the one starting there, or ending).
+
+        ``wrapped=True`` says the angles are already mapped into the program's revolution.
+        """
+        t = np.asarray(theta_rad, dtype=float) if wrapped else self._wrap(theta_rad)
         idx = np.searchsorted(self._starts, t, side="right") - 1
         if left_limit is not None:
             left = np.broadcast_to(np.asarray(left_limit, dtype=bool), t.shape)
@@ -415,7 +418,7 @@ class SegmentProgram(MotionProgram):
         """
         theta = np.asarray(theta_rad, dtype=float)
         t = np.atleast_1d(self._wrap(theta))
-        idx = np.atleast_1d(self.segment_index(theta, left_limit=left_limit))
+        idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
         out = [np.zeros_like(t) for _ in range(4)]
         for i, seg in enumerate(self.segments):
             m = idx == i

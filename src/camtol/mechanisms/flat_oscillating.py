@@ -144,6 +144,28 @@ class FlatOscillating(Mechanism):
             "e": -inv_u,
         }
 
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Lean form of :meth:`sensitivities` through the support function.
+
+        p = f sin ξ + e and dp/dψ = q cos ξ = f V cos ξ/(1 − V) give |O2A| = sqrt(p² + p'²)
+        and cos λ = p/|O2A| (THEORY §2.5: sin λ = f V cos ξ / ((1 − V)|O2A|)).
+        """
+        f = self.pivot_distance_mm
+        xi = lift + self.initial_angle_rad
+        sx, cx = jet.sin(xi), jet.cos(xi)
+        q = velocity * f / (1.0 - velocity)
+        p = sx * f + self.face_offset_mm
+        dp = q * cx
+        inv_u = 1.0 / ((q + f) * cx)
+        return {
+            "r": p / jet.sqrt(p * p + dp * dp) * inv_u,
+            "n": inv_u,
+            "f": -sx * inv_u,
+            "e": -inv_u,
+        }
+
     def curvature_radius(
         self,
         theta_rad: FloatArray,

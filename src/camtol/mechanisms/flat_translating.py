@@ -122,6 +122,29 @@ class FlatTranslating(Mechanism):
             "phi": geometry.extras["face_contact"] / cphi,
         }
 
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Lean form of :meth:`sensitivities` through the support function.
+
+        p = r_b + S cos φ is the support value and p' = V cos φ its derivative along the
+        face-normal angle, so |O2A| = sqrt(p² + p'²) and cos λ = p/|O2A| (THEORY §2.5:
+        sin λ = V cos φ / |O2A|).
+        """
+        phi, e = self.face_angle_rad, self.offset_mm
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        p = lift * cphi + self.base_radius_mm
+        dp = velocity * cphi
+        cos_lambda = p / jet.sqrt(p * p + dp * dp)
+        u = (lift + (self.base_radius_mm / cphi - e * math.tan(phi))) * sphi + (velocity - e) * cphi
+        zero = jet.value(theta) * 0.0
+        return {
+            "r": cos_lambda / cphi,
+            "n": zero + 1.0 / cphi,
+            "e": zero - math.tan(phi),
+            "phi": u / cphi,
+        }
+
     def curvature_radius(
         self,
         theta_rad: FloatArray,

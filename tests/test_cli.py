@@ -1,0 +1,169 @@
+"""The command line, in process (STYLE point 15): exit codes, one-line errors, files."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from camtol.cli import main
+
+
+def test_analyze_example_prints_extremes(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "--example", "cw06-translating"]) == 0
+    out = capsys.readouterr().out
+    assert "25.567" in out and "71.50°" in out
+    assert "between IT7 (21 µm) and IT8 (33 µm)" in out
+    assert "120.00-190.00°, 290.00-360.00°" in out
+
+
+def test_analyze_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "-e", "cw06-oscillating", "--json", "--step", "0.5"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["max_radius_mm"] == pytest.approx(58.934, abs=1e-3)
+    worst = next(e for e in data["extremes"] if e["quantity"] == "dS_worst")
+    assert worst["unit"] == "deg"
+    assert data["accuracy"].startswith("between IT8")
+    assert any("not defined by ISO 286" in c for c in data["conventions"])
+
+
+@pytest.mark.parametrize(
+    ("example", "unit", "sources"),
+    [("cw06-translating", "um", ["r", "e", "phi"]), ("cw06-oscillating", "deg", ["r", "f", "e"])],
+)
+def test_curves_csv_columns(tmp_path: Path, example: str, unit: str, sources: list[str]) -> None:
+    out = tmp_path / "c.csv"
+    assert main(["analyze", "-e", example, "--curves", str(out), "--quiet"]) == 0
+    with out.open() as fh:
+        rows = list(csv.reader(fh))
+    header = rows[0]
+    for col in ["theta_deg", "x_mm", "y_mm", "radius_mm", "pressure_angle_deg", "shift_angle_deg"]:
+        assert col in header
+    for s in [*sources, "worst", "rms"]:
+        assert f"dS_{s}_{unit}" in header
+        assert f"dV_{s}_{unit}_per_rad" in header
+        assert f"dA_{s}_{unit}_per_rad2" in header
+    # 3601 grid angles plus one extra (left-limit) row per segment boundary
+    assert len(rows) - 1 == 3601 + 4
+    theta = [float(r[0]) for r in rows[1:]]
+    assert theta == sorted(theta)
+
+
+def _write(tmp_path: Path, text: str) -> Path:
+    p = tmp_path / "cam.toml"
+    p.write_text(text)
+    return p
+
+
+GOOD = """
+name = "t"
+[follower]
+type = "flat_translating"
+base_radius_mm = {rb}
+[motion]
+segments = [
+  {{ kind = "rise", law = "{law}", start_deg = 0, end_deg = {rise}, lift_mm = 22 }},
+  {{ kind = "return", law = "cycloidal", start_deg = {rise}, end_deg = {end}, lift_mm = 22 }},
+]
+[tolerances]
+r = "IT6"
+"""
+
+
+@pytest.mark.parametrize(
+    ("params", "message"),
+    [
+        ({"rb": 5, "law": "cycloidal", "rise": 40, "end": 360}, "not convex: radius of curvature"),
+        ({"rb": 40, "law": "wobble", "rise": 180, "end": 360}, "unknown motion law"),
+        ({"rb": -4, "law": "cycloidal", "rise": 180, "end": 360}, "base_radius_mm=-4"),
+        ({"rb": 40, "law": "cycloidal", "rise": 180, "end": 350}, "must cover exactly 360°"),
+    ],
+)
+def test_invalid_design_one_line_exit_2_nothing_written(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], params: dict[str, object], message: str
+) -> None:
+    design = _write(tmp_path, GOOD.format(**params))
+    out = tmp_path / "c.csv"
+    code = main(["analyze", str(design), "--curves", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert message in err
+    assert err.count("\n") == 1 and err.startswith("camtol: error: ")
+    assert "Traceback" not in err
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == [design]
+
+
+def test_oscillating_v_at_least_one_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    design = _write(
+        tmp_path,
+        """
+name = "fast"
+[follower]
+type = "flat_oscillating"
+base_radius_mm = 40
+pivot_distance_mm = 80
+face_offset_mm = 16
+[motion]
+segments = [
+  { kind = "rise", law = "cycloidal", start_deg = 0, end_deg = 30, lift_deg = 60 },
+  { kind = "return", law = "cycloidal", start_deg = 30, end_deg = 360, lift_deg = 60 },
+]
+""",
+    )
+    assert main(["analyze", str(design)]) == 2
+    assert "needs V < 1 everywhere" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["analyze"], "give either a DESIGN.toml file or --example NAME"),
+        (["analyze", "-e", "nope"], "example 'nope' does not exist"),
+        (["analyze", "-e", "cw06-translating", "--step", "0.7"], "step_deg=0.7 is not allowed"),
+        (["analyze", "-e", "cw06-translating", "--curves", "x.txt"], "must end in .csv"),
+        (["analyze", "-e", "cw06-translating", "--curves", "/no/such/dir/x.csv"], "does not exist"),
+        (["analyze", "-e", "cw06-translating", "--step", "abc"], "'abc' is not a valid float"),
+        (["frobnicate"], "No such command"),
+    ],
+)
+def test_usage_errors(capsys: pytest.CaptureFixture[str], args: list[str], message: str) -> None:
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert "Traceback" not in err
+
+
+def test_examples_list_and_show(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["examples"]) == 0
+    assert "cw06-translating" in capsys.readouterr().out
+    assert main(["examples", "show", "cw06-oscillating"]) == 0
+    assert 'type = "flat_oscillating"' in capsys.readouterr().out
+    assert main(["examples", "show", "nope"]) == 2
+
+
+def test_example_toml_round_trips_through_a_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    main(["examples", "show", "cw06-translating"])
+    design = _write(tmp_path, capsys.readouterr().out)
+    assert main(["analyze", str(design), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["design"]["name"] == "cw06-translating"
+
+
+def test_core_import_is_light() -> None:
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, camtol, camtol.analysis, camtol.config, camtol.cli;"
+        "bad=[m for m in ('matplotlib','ezdxf','scipy','rich') if m in sys.modules];"
+        "print(','.join(bad))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""

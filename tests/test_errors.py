@@ -1,0 +1,70 @@
+"""Velocity and acceleration errors (THEORY §3.5) and the extremes finder."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from camtol.analysis import analyse
+from camtol.config import load_example
+from camtol.design import ResolvedTolerance
+from camtol.errors import error_analysis
+from camtol.extremes import find_extremes
+
+
+@pytest.mark.parametrize("name", ["cw06-translating", "cw06-oscillating"])
+def test_dv_da_are_derivatives_of_ds_inside_segments(name: str) -> None:
+    design = load_example(name)
+    tols = design.resolve_tolerances(60.0)
+    # points well inside segments; central differences with h = 1e-4 rad (error ~1e-8 rel)
+    t = np.radians(np.concatenate([np.linspace(5, 115, 50), np.linspace(200, 270, 30)]))
+    h = 1e-4
+    e0 = error_analysis(design, tols, t)
+    ep = error_analysis(design, tols, t + h)
+    em = error_analysis(design, tols, t - h)
+    for key, src in e0.sources.items():
+        fd_v = (ep.sources[key].delta_lift - em.sources[key].delta_lift) / (2 * h)
+        fd_a = (ep.sources[key].delta_lift - 2 * src.delta_lift + em.sources[key].delta_lift) / h**2
+        scale_v = max(np.max(np.abs(src.delta_velocity)), 1e-12)
+        scale_a = max(np.max(np.abs(src.delta_acceleration)), 1e-12)
+        assert np.max(np.abs(fd_v - src.delta_velocity)) < 1e-6 * scale_v + 1e-15, key
+        assert np.max(np.abs(fd_a - src.delta_acceleration)) < 1e-4 * scale_a + 1e-12, key
+
+
+def test_speed_scales_velocity_and_acceleration_errors() -> None:
+    import dataclasses
+
+    design = load_example("cw06-translating")
+    fast = dataclasses.replace(design, speed_rpm=600.0)
+    a1, a2 = analyse(design, step_deg=1.0), analyse(fast, step_deg=1.0)
+    omega = 600 * 2 * math.pi / 60
+    assert a2.curves["dV_phi"] == pytest.approx(a1.curves["dV_phi"] * omega)
+    assert a2.curves["dA_phi"] == pytest.approx(a1.curves["dA_phi"] * omega**2)
+    assert a2.curves["dS_phi"] == pytest.approx(a1.curves["dS_phi"])
+    units = {q.key: q.unit for q in a2.quantities}
+    assert units["dV_worst"] == "um/s" and units["dA_worst"] == "um/s2"
+
+
+def test_extremes_refine_beyond_grid() -> None:
+    # f(θ) = cos(θ − 1.23456 rad): max at 70.7350°, found to step/1000 from a 1° grid
+    t0 = 1.23456
+    theta = np.radians(np.arange(0, 361.0))
+    ext = find_extremes(
+        theta,
+        {"f": np.cos(theta - t0)},
+        lambda t: {"f": np.cos(t - t0)},
+        step_deg=1.0,
+    )["f"]
+    assert ext[0].theta_deg == pytest.approx(math.degrees(t0), abs=1e-3)
+    assert ext[1].theta_deg == pytest.approx(math.degrees(t0) + 180, abs=1e-3)
+    assert ext[0].ranges_deg == ()
+
+
+def test_unit_deviation_sensitivity_is_linear() -> None:
+    design = load_example("cw06-translating")
+    t = np.radians(np.linspace(0, 360, 361))
+    one = error_analysis(design, [ResolvedTolerance("r", 0.019, "mm", "")], t)
+    two = error_analysis(design, [ResolvedTolerance("r", 0.038, "mm", "")], t)
+    assert two.sources["r"].delta_lift == pytest.approx(2 * one.sources["r"].delta_lift)

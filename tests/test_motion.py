@@ -1,0 +1,175 @@
+"""Motion laws and programs (THEORY §1)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from camtol.exceptions import DesignError
+from camtol.motion import MOTION_LAWS, LiftTable, Segment, SegmentProgram, normalized_law
+
+RISE_LAWS = [n for n in MOTION_LAWS if n != "constant_velocity"]
+
+
+@pytest.mark.parametrize("name", MOTION_LAWS)
+def test_law_derivatives_match_finite_differences(name: str) -> None:
+    # Central differences with h = 1e-5: truncation ~h² · s'''' ≲ 1e-7, so 1e-5 relative
+    # to the derivative's scale is a safe bound away from interior knots.
+    law = normalized_law(name)
+    h = 1e-5
+    x = np.linspace(0.01, 0.99, 397)
+    x = x[np.min(np.abs(x[:, None] - np.arange(1, 8)[None, :] / 8), axis=1) > 2 * h]
+    s, v, a, j = law(x)
+    sp, vp, ap, _ = law(x + h)
+    sm, vm, am, _ = law(x - h)
+    for got, plus, minus in ((v, sp, sm), (a, vp, vm), (j, ap, am)):
+        fd = (plus - minus) / (2 * h)
+        assert np.max(np.abs(fd - got)) <= 1e-5 * max(1.0, np.max(np.abs(got)))
+
+
+@pytest.mark.parametrize("name", RISE_LAWS)
+def test_law_boundary_values(name: str) -> None:
+    s, v, a, _ = normalized_law(name)(np.array([0.0, 1.0]))
+    assert s == pytest.approx([0.0, 1.0], abs=1e-14)
+    assert v == pytest.approx([0.0, 0.0], abs=1e-12)
+    if name != "simple_harmonic":  # SHM's acceleration jumps at the ends (THEORY §1)
+        assert a == pytest.approx([0.0, 0.0], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("name", "cv", "ca"),
+    # Norton, Cam Design and Manufacturing Handbook, peak factors (printed to 4 decimals)
+    [
+        ("cycloidal", 2.0, 6.2832),
+        ("modified_trapezoid", 2.0, 4.8881),
+        ("modified_sine", 1.7596, 5.5280),
+        ("polynomial_345", 1.875, 5.7735),
+    ],
+)
+def test_law_peak_factors_match_norton(name: str, cv: float, ca: float) -> None:
+    x = np.linspace(0, 1, 200001)
+    _, v, a, _ = normalized_law(name)(x)
+    assert v.max() == pytest.approx(cv, abs=1e-4)
+    assert a.max() == pytest.approx(ca, abs=1e-4)
+
+
+def test_unknown_law_message_lists_allowed() -> None:
+    with pytest.raises(DesignError, match="'spline9' is unknown; allowed: cycloidal"):
+        normalized_law("spline9")
+
+
+def _cw06() -> SegmentProgram:
+    r = math.radians
+    return SegmentProgram(
+        (
+            Segment("rise", 0, r(120), "cycloidal", 22.0),
+            Segment("dwell", r(120), r(190)),
+            Segment("return", r(190), r(290), "cycloidal", 22.0),
+            Segment("dwell", r(290), r(360)),
+        )
+    )
+
+
+def test_program_values_and_periodicity() -> None:
+    p = _cw06()
+    m = p.evaluate(np.radians([0, 60, 150, 240, 300, 360, 420]))
+    assert m.lift == pytest.approx([0, 11, 22, 11, 0, 0, 11], abs=1e-12)
+    assert p.total_travel == pytest.approx(22.0)
+    assert np.degrees(p.boundaries_rad) == pytest.approx([0, 120, 190, 290])
+
+
+def test_program_left_and_right_limits_at_boundaries() -> None:
+    p = _cw06()
+    t = np.radians([120.0, 120.0, 360.0, 0.0])
+    m = p.evaluate(t, left_limit=[True, False, True, False])
+    beta = math.radians(120)
+    # cycloidal A = 2π h/β² sin(2πx): 0 at both ends; J = 4π² h/β³ cos(2πx) jumps.
+    assert m.jerk[0] == pytest.approx(4 * math.pi**2 * 22 / beta**3)
+    assert m.jerk[1] == 0.0
+    beta_r = math.radians(100)
+    assert m.jerk[2] == 0.0
+    assert m.jerk[3] == pytest.approx(4 * math.pi**2 * 22 / beta**3)
+    m2 = p.evaluate(np.radians([290.0]), left_limit=[True])
+    assert m2.jerk[0] == pytest.approx(-4 * math.pi**2 * 22 / beta_r**3)
+
+
+@pytest.mark.parametrize(
+    ("segments", "message"),
+    [
+        ((), "empty"),
+        (((("rise", 0, 100, "cycloidal", 5.0)),), "cover 100°; they must cover exactly 360°"),
+        (
+            (("rise", 0, 180, "cycloidal", 5.0), ("return", 190, 360, "cycloidal", 5.0)),
+            "does not continue the previous segment's end 180°",
+        ),
+        (
+            (("rise", 0, 180, "cycloidal", 5.0), ("return", 180, 360, "cycloidal", 4.0)),
+            "rises and returns must balance",
+        ),
+        (
+            (("rise", 0, 180, "cubic", 5.0), ("return", 180, 360, "cycloidal", 5.0)),
+            "'cubic' is unknown",
+        ),
+        (
+            (("rise", 0, 180, "cycloidal", -5.0), ("return", 180, 360, "cycloidal", -5.0)),
+            "height=-5 must be > 0",
+        ),
+        (
+            (("rise", 0, 0, "cycloidal", 5.0), ("return", 0, 360, "cycloidal", 5.0)),
+            "the end must be after the start",
+        ),
+    ],
+)
+def test_program_validation_messages(segments: tuple, message: str) -> None:  # type: ignore[type-arg]
+    r = math.radians
+    segs = tuple(Segment(k, r(a), r(b), law, h) for k, a, b, law, h in segments)
+    with pytest.raises(DesignError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        SegmentProgram(segs)
+
+
+def test_lift_table_reproduces_smooth_program() -> None:
+    # A 1° table of the cycloidal program: the periodic spline reproduces S to ~1e-5 mm and
+    # V to ~1e-3 mm/rad (cubic spline error ~ h⁴ S''''/384 with h = 1° ≈ 0.0175 rad).
+    p = _cw06()
+    t = np.radians(np.arange(360.0))
+    table = LiftTable(t, p.evaluate(t).lift)
+    fine = np.radians(np.linspace(0, 360, 7201))
+    ref, got = p.evaluate(fine), table.evaluate(fine)
+    assert np.max(np.abs(got.lift - ref.lift)) < 1e-4
+    assert np.max(np.abs(got.velocity - ref.velocity)) < 5e-3
+    assert table.total_travel == pytest.approx(22.0)
+
+
+def test_lift_table_validation() -> None:
+    with pytest.raises(DesignError, match="equally spaced"):
+        LiftTable(np.radians(np.array([0, 1, 3, 4, 5, 6, 7, 8.0])), np.zeros(8))
+    with pytest.raises(DesignError, match="at least 8"):
+        LiftTable(np.radians(np.array([0, 90, 180, 270.0])), np.zeros(4))
+
+
+@given(
+    law=st.sampled_from(RISE_LAWS),
+    rise=st.floats(30, 200),
+    dwell=st.floats(5, 60),
+    h=st.floats(0.1, 50),
+)
+def test_random_program_is_continuous_in_lift_and_velocity(
+    law: str, rise: float, dwell: float, h: float
+) -> None:
+    r = math.radians
+    p = SegmentProgram(
+        (
+            Segment("rise", 0, r(rise), law, h),
+            Segment("dwell", r(rise), r(rise + dwell)),
+            Segment("return", r(rise + dwell), r(360), law, h),
+        )
+    )
+    b = p.boundaries_rad
+    left = p.evaluate(b, left_limit=np.ones(b.size, bool))
+    right = p.evaluate(b)
+    assert left.lift == pytest.approx(right.lift, abs=1e-9 * h)
+    assert left.velocity == pytest.approx(right.velocity, abs=1e-9 * h)
