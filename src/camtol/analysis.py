@@ -129,8 +129,10 @@ def _quantities(
         q.append(Quantity("face_contact", "contact on face u", "mm"))
     if mech.output == "translating":
         q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / cos φ", "-"))
-    else:
+    elif mech.kind.startswith("flat"):
         q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / u", "deg/mm"))
+    else:  # oscillating roller (THEORY §3.3)
+        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / (l cos φ)", "deg/mm"))
     for t in tolerances:
         q.append(Quantity(f"dS_{t.key}", f"ΔS_{t.key} ({t.display})", unit))
     q += [

@@ -193,6 +193,16 @@ def examples_show(name: str) -> None:
     raise _Exit(run_guarded(body))
 
 
+def _register_subcommands() -> None:
+    """Add the commands that live in their own modules."""
+    from camtol.cli_conjugate import conjugate
+
+    cli.add_command(conjugate)
+
+
+_register_subcommands()
+
+
 def main(args: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit status (0 ok, 1 out of tolerance, 2 usage)."""
     try:

@@ -105,10 +105,77 @@ class FlatOscillatingSchema(_Strict):
         return FlatOscillating(self.base_radius_mm, self.pivot_distance_mm, self.face_offset_mm)
 
 
+class RollerTranslatingSchema(_Strict):
+    """``type = "roller_translating"``: offset translating roller (THEORY §2.3)."""
+
+    type: Literal["roller_translating"]
+    base_radius_mm: float = Field(gt=0)
+    roller_radius_mm: float = Field(gt=0)
+    offset_mm: float = 0.0
+
+    def build(self) -> Mechanism:
+        """Return the mechanism."""
+        from camtol.mechanisms.roller_translating import RollerTranslating
+
+        return RollerTranslating(self.base_radius_mm, self.roller_radius_mm, self.offset_mm)
+
+
+class RollerOscillatingSchema(_Strict):
+    """``type = "roller_oscillating"``: oscillating roller, cam A alone (THEORY §2.4)."""
+
+    type: Literal["roller_oscillating"]
+    base_radius_mm: float = Field(gt=0)
+    roller_radius_mm: float = Field(gt=0)
+    pivot_distance_mm: float = Field(gt=0)
+    arm_length_mm: float = Field(gt=0)
+
+    def build(self) -> Mechanism:
+        """Return the mechanism."""
+        from camtol.mechanisms.roller_oscillating import RollerOscillating
+
+        return RollerOscillating(
+            self.base_radius_mm, self.roller_radius_mm, self.pivot_distance_mm, self.arm_length_mm
+        )
+
+
+class ConjugateSchema(_Strict):
+    """``type = "conjugate"``: conjugate cams A and B, double-roller follower (THEORY §2.4).
+
+    The fixture data of ``camtol conjugate`` go in the ``[inspection]`` table
+    (:func:`camtol.inspection.fixture.fixture_spec_from_mapping`).
+    """
+
+    type: Literal["conjugate"]
+    base_radius_mm: float = Field(gt=0)
+    roller_radius_mm: float = Field(gt=0)
+    roller_b_radius_mm: float | None = Field(default=None, gt=0)
+    pivot_distance_mm: float = Field(gt=0)
+    arm_a_mm: float = Field(gt=0)
+    arm_b_mm: float = Field(gt=0)
+    arm_angle_deg: float = Field(gt=0, lt=180)
+
+    def build(self) -> Mechanism:
+        """Return the mechanism (cam A's view; cam B via ``.cam_b``)."""
+        from camtol.mechanisms.conjugate import ConjugatePair
+
+        return ConjugatePair(
+            self.base_radius_mm,
+            self.roller_radius_mm,
+            self.pivot_distance_mm,
+            self.arm_a_mm,
+            self.arm_b_mm,
+            math.radians(self.arm_angle_deg),
+            self.roller_b_radius_mm,
+        )
+
+
 #: Follower schema by ``follower.type``. Each schema's ``build()`` returns the mechanism.
 FOLLOWER_SCHEMAS: dict[str, type[Any]] = {
     "flat_translating": FlatTranslatingSchema,
     "flat_oscillating": FlatOscillatingSchema,
+    "roller_translating": RollerTranslatingSchema,
+    "roller_oscillating": RollerOscillatingSchema,
+    "conjugate": ConjugateSchema,
 }
 
 

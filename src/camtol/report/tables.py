@@ -92,6 +92,10 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
             for q in a.quantities
         ],
     }
+    if mech.kind == "conjugate":  # the errors above are cam A's; cam B's geometry here
+        from camtol.report.conjugate import conjugate_analysis_json
+
+        out["cam_b"] = conjugate_analysis_json(a)
     if k.face_contact_mm is not None:
         out["validity"]["face_contact_mm"] = [
             float(k.face_contact_mm.min()),
@@ -131,6 +135,10 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
     for prefix, unit in (("dS", err_unit), ("dV", vunit), ("dA", aunit)):
         for n in names:
             cols[f"{prefix}_{n}_{_file_unit(unit)}"] = a.curves[f"{prefix}_{n}"]
+    if a.design.mechanism.kind == "conjugate":  # both cams' profiles and angles
+        from camtol.report.conjugate import conjugate_profile_columns
+
+        cols = conjugate_profile_columns(a, cols)
     return cols
 
 
@@ -193,7 +201,8 @@ def print_analysis(a: Analysis, *, console: Any = None) -> None:
     k = a.kinematics
     rho_min = a.extremes["curvature_radius"][1]
     params.add_row(
-        "min radius of curvature", f"{rho_min.value:.4f} mm at {rho_min.where} (convex: OK)"
+        "min radius of curvature",
+        f"{rho_min.value:.4f} mm at {rho_min.where} (no cusp or undercut)",
     )
     if k.face_contact_mm is not None:
         params.add_row(

@@ -1,0 +1,128 @@
+"""``camtol conjugate``: the conjugate-cam fixture analysis (THEORY §4; [CW11]).
+
+Registered on the ``camtol`` group by :mod:`camtol.cli`. Exit status 1 when an inspected
+cam fails its acceptance band, 0 when both pass (or when there is no measured record), 2 on
+bad input.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import click
+
+from camtol.cli import (
+    EXIT_FAIL,
+    EXIT_OK,
+    _Exit,
+    _json_default,
+    check_output_path,
+    design_options,
+    fail,
+    load_input,
+    run_guarded,
+)
+
+__all__ = ["conjugate"]
+
+
+@click.command()
+@design_options
+@click.option(
+    "--df-mea",
+    "df_mea",
+    metavar="VALUE|FILE.csv|FORMULA",
+    help="Measured centre-distance variation Δf: '22 um', '0.022 mm', a CSV of theta_deg,um,"
+    " or a formula in theta (rad) / theta_deg giving µm. Overrides inspection.df_mea_um.",
+)
+@click.option(
+    "--master-a",
+    metavar="VALUE|FILE.csv|FORMULA",
+    help="Known radial error of master cam A (µm), as for --df-mea.",
+)
+@click.option(
+    "--master-b",
+    metavar="VALUE|FILE.csv|FORMULA",
+    help="Known radial error of master cam B (µm), as for --df-mea.",
+)
+@click.option(
+    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.option(
+    "--curves",
+    metavar="FILE.csv",
+    help="Write one row per angle: Δf parts, Δr_A,est, Δr_B,est and the four bands (µm).",
+)
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
+def conjugate(
+    design: str | None,
+    example: str | None,
+    df_mea: str | None,
+    master_a: str | None,
+    master_b: str | None,
+    step_deg: float,
+    as_json: bool,
+    curves: str | None,
+    quiet: bool,
+) -> None:
+    """Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.
+
+    The design's [inspection] table gives the tolerances, the follower's constant errors,
+    the master cams' errors and the measured Δf (THEORY §4, §8.3); the options override
+    them. Prints the extremes and a verdict per inspected cam with the cam-angle intervals
+    where it fails. Exit status 1 when a cam fails.
+    """
+
+    def body() -> int:
+        check_output_path(curves, "--curves", [".csv"])
+        from camtol.inspection.fixture import (
+            ErrorFunction,
+            fixture_spec_from_mapping,
+            inspect_conjugate,
+            parse_error_function,
+        )
+        from camtol.mechanisms.conjugate import ConjugatePair
+        from camtol.report import conjugate as rep
+
+        d = load_input(design, example)
+        if not isinstance(d.mechanism, ConjugatePair):
+            fail(
+                f"follower.type={d.mechanism.kind!r}: `camtol conjugate` needs a conjugate"
+                " design (follower.type = 'conjugate')"
+            )
+        raw = d.extras.get("inspection")
+        if not raw:
+            fail(
+                "the design has no [inspection] table; give at least"
+                " inspection.tolerance_a_um = [lower, upper] (see"
+                " `camtol examples show cw11-conjugate`)"
+            )
+        base = Path(design).parent if design is not None else None
+        spec = fixture_spec_from_mapping(raw, base_dir=base)
+
+        def option(value: str | None, name: str, default: ErrorFunction) -> ErrorFunction:
+            return default if value is None else parse_error_function(value, field=name)
+
+        spec = dataclasses.replace(
+            spec,
+            df_mea=(
+                spec.df_mea if df_mea is None else parse_error_function(df_mea, field="--df-mea")
+            ),
+            master_a=option(master_a, "--master-a", spec.master_a),
+            master_b=option(master_b, "--master-b", spec.master_b),
+        )
+        res = inspect_conjugate(d, spec, step_deg=step_deg)
+        if curves:
+            rep.write_fixture_curves_csv(res, curves)
+        if as_json:
+            click.echo(
+                json.dumps(rep.fixture_json(res, spec, d.name), indent=2, default=_json_default)
+            )
+        elif not quiet:
+            rep.print_fixture(res, spec, d.name)
+        return EXIT_FAIL if res.passed is False else EXIT_OK
+
+    raise _Exit(run_guarded(body))

@@ -1,0 +1,386 @@
+"""Conjugate cam pair with an oscillating double-roller follower (THEORY §2.4; [CW11] §2).
+
+Two cams A and B on one shaft drive one follower with two arms (lengths l_A, l_B, fixed
+angle η between them) carrying rollers C and D. Cam A pushes the follower up (ξ grows),
+cam B pushes it back. Each cam is a single-contact :class:`~camtol.mechanisms.base.Mechanism`
+sharing the follower angle ξ(θ): :class:`~camtol.mechanisms.roller_oscillating.RollerOscillating`
+for cam A and :class:`ConjugateCamB` (the mirrored closed forms) for cam B, so the analytic
+engine (:func:`camtol.kinematics.kinematics`) runs per cam. :class:`ConjugatePair` is the
+pair; as a Mechanism it stands for cam A (so a single-contact analysis of a conjugate
+design is cam A's), and :func:`conjugate_kinematics` returns both cams' results.
+
+References
+----------
+.. [CW11] W.-T. Chang, L.-I. Wu, in *Wide Spectra of Quality Control*, InTech, 2011,
+   ch. 20. doi:10.5772/23665
+.. [Wu03] L.-I. Wu, Proc. IMechE C 217(10):1117-1123, 2003. doi:10.1243/095440603322517126
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from camtol import jet
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError, GeometryError
+from camtol.jet import FloatArray, Jet, JetLike
+from camtol.kinematics import Kinematics, kinematics
+from camtol.mechanisms.base import (
+    ContactGeometry,
+    ErrorSource,
+    Mechanism,
+    OutputKind,
+    require_positive,
+)
+from camtol.mechanisms.roller_oscillating import (
+    RollerOscillating,
+    oscillating_roller_contact,
+    oscillating_roller_pitch,
+    oscillating_roller_sensitivities,
+)
+from camtol.mechanisms.roller_translating import pitch_curvature_radius, roller_undercut_mask
+
+__all__ = ["ConjugateCamB", "ConjugateKinematics", "ConjugatePair", "conjugate_kinematics"]
+
+
+@dataclass(frozen=True)
+class ConjugateCamB(Mechanism):
+    r"""Cam B of a conjugate pair, seen as a single-contact mechanism; output ξ in radians.
+
+    Parameters
+    ----------
+    pivot_distance_mm : float
+        Centre distance f. [mm]
+    arm_length_mm : float
+        Arm length l_B = |O3D|. [mm]
+    roller_radius_mm : float
+        Radius r_D of roller D. [mm]
+    arm_angle_rad : float
+        Fixed angle η between the arms O3C and O3D. [rad]
+    initial_angle_rad : float
+        ξ0 of the follower (fixed by cam A's base circle). [rad]
+
+    Notes
+    -----
+    THEORY §2.4: D = O3 + l_B (cos(θ+180°+η−ξ), sin(θ+180°+η−ξ)),
+    B = (QD − r_D)(cos(θ − α_B), sin(θ − α_B)) − q (cos θ, sin θ), φ_B = 90° − α_B − (η − ξ).
+    Cam B pushes ξ *down*, so its sensitivities carry the opposite sign of cam A's
+    (:func:`~camtol.mechanisms.roller_oscillating.oscillating_roller_sensitivities`);
+    ΔS_η = +Δη (turning arm D by Δη with the contact kept turns the follower by Δη).
+    """
+
+    pivot_distance_mm: float
+    arm_length_mm: float
+    roller_radius_mm: float
+    arm_angle_rad: float
+    initial_angle_rad: float
+
+    kind: ClassVar[str] = "conjugate_cam_b"
+    output: ClassVar[OutputKind] = "oscillating"
+    sources: ClassVar[tuple[ErrorSource, ...]] = (
+        ErrorSource("r", "radial profile error Δr_B", "mm"),
+        ErrorSource("n", "normal profile error Δn_B", "mm"),
+        ErrorSource("rf", "roller-radius error Δr_rD", "mm"),
+        ErrorSource("l", "arm-length error Δl_B", "mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm"),
+        ErrorSource("eta", "arm-angle error Δη", "rad"),
+    )
+    side: ClassVar[int] = 1
+
+    def arm_angle(self, lift: JetLike) -> JetLike:
+        """γ_B = η − ξ = η − ξ0 − S. [rad]"""
+        return (self.arm_angle_rad - self.initial_angle_rad) - lift
+
+    def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
+        """Contact geometry of cam B (THEORY §2.4); extras also ``follower_angle`` ξ [rad]."""
+        g = oscillating_roller_contact(
+            theta,
+            self.arm_angle(lift),
+            velocity,
+            self.pivot_distance_mm,
+            self.arm_length_mm,
+            self.roller_radius_mm,
+            self.side,
+        )
+        g.extras["follower_angle"] = self.initial_angle_rad + lift
+        return g
+
+    def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
+        """Δξ per unit error of cam B's sources, rad per mm or rad per rad (see class Notes)."""
+        out = oscillating_roller_sensitivities(geometry, self.arm_length_mm, self.side)
+        out["eta"] = jet.value(theta) * 0.0 + 1.0
+        return out
+
+    def curvature_radius(
+        self,
+        theta_rad: FloatArray,
+        lift: FloatArray,
+        velocity: FloatArray,
+        acceleration: FloatArray,
+    ) -> FloatArray:
+        """Signed profile radius of curvature ρ = ρ_pitch − r_D (> 0 convex). [mm]"""
+        theta = Jet.variable(np.asarray(theta_rad, float))
+        s = Jet(
+            np.asarray(lift, float), np.asarray(velocity, float), np.asarray(acceleration, float)
+        )
+        cx, cy = oscillating_roller_pitch(
+            theta, self.arm_angle(s), self.pivot_distance_mm, self.arm_length_mm, self.side
+        )
+        assert isinstance(cx, Jet) and isinstance(cy, Jet)
+        return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
+
+    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
+        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.4)."""
+        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)
+
+    def nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """IT-grade nominal sizes: max radial dimension, r_D, l_B, f, η in degrees."""
+        return {
+            "r": max_radius_mm,
+            "n": max_radius_mm,
+            "rf": self.roller_radius_mm,
+            "l": self.arm_length_mm,
+            "f": self.pivot_distance_mm,
+            "eta": math.degrees(self.arm_angle_rad),
+        }[key]
+
+    def summary(self) -> list[tuple[str, str]]:
+        """Parameters with units."""
+        return [
+            ("follower", "conjugate cam B (oscillating roller D)"),
+            ("roller radius r_D", f"{self.roller_radius_mm:g} mm"),
+            ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
+            ("arm length l_B", f"{self.arm_length_mm:g} mm"),
+            ("arm angle η", f"{math.degrees(self.arm_angle_rad):g}°"),
+        ]
+
+
+@dataclass(frozen=True)
+class ConjugatePair(Mechanism):
+    r"""Conjugate cams A and B with an oscillating double-roller follower (THEORY §2.4).
+
+    Parameters
+    ----------
+    base_radius_mm : float
+        Base-circle radius r_b of cam A. [mm]
+    roller_radius_mm : float
+        Radius r_C of roller C (on cam A). [mm]
+    pivot_distance_mm : float
+        Centre distance f = |O2O3|. [mm]
+    arm_a_mm, arm_b_mm : float
+        Arm lengths l_A = |O3C| and l_B = |O3D|. [mm]
+    arm_angle_rad : float
+        Fixed angle η between the arms, 0 < η < 180°. [rad]
+    roller_b_radius_mm : float, optional
+        Radius r_D of roller D; defaults to r_C. [mm]
+
+    Notes
+    -----
+    As a :class:`~camtol.mechanisms.base.Mechanism` the pair stands for cam A (its contact,
+    sensitivities and curvature are cam A's, :attr:`cam_a`); :attr:`cam_b` is cam B, and
+    :func:`conjugate_kinematics` evaluates both. The follower turns with the cam during a
+    rise (THEORY §0), q = fV/(1 − V).
+    """
+
+    base_radius_mm: float
+    roller_radius_mm: float
+    pivot_distance_mm: float
+    arm_a_mm: float
+    arm_b_mm: float
+    arm_angle_rad: float
+    roller_b_radius_mm: float | None = None
+
+    kind: ClassVar[str] = "conjugate"
+    output: ClassVar[OutputKind] = "oscillating"
+    sources: ClassVar[tuple[ErrorSource, ...]] = RollerOscillating.sources
+
+    def __post_init__(self) -> None:
+        require_positive("follower.arm_b_mm", self.arm_b_mm)
+        if self.roller_b_radius_mm is not None:
+            require_positive("follower.roller_b_radius_mm", self.roller_b_radius_mm)
+        if not 0.0 < self.arm_angle_rad < math.pi:
+            raise DesignError(
+                f"follower.arm_angle_deg={math.degrees(self.arm_angle_rad):g} is not allowed;"
+                " the angle η between the arms must lie strictly between 0 and 180"
+            )
+        self.cam_a  # validates cam A's dimensions  # noqa: B018
+
+    @property
+    def roller_d_mm(self) -> float:
+        """Radius r_D of roller D. [mm]"""
+        return self.roller_radius_mm if self.roller_b_radius_mm is None else self.roller_b_radius_mm
+
+    @property
+    def cam_a(self) -> RollerOscillating:
+        """Cam A with roller C as a single-contact mechanism."""
+        return RollerOscillating(
+            self.base_radius_mm, self.roller_radius_mm, self.pivot_distance_mm, self.arm_a_mm
+        )
+
+    @property
+    def cam_b(self) -> ConjugateCamB:
+        """Cam B with roller D as a single-contact mechanism."""
+        return ConjugateCamB(
+            self.pivot_distance_mm,
+            self.arm_b_mm,
+            self.roller_d_mm,
+            self.arm_angle_rad,
+            self.cam_a.initial_angle_rad,
+        )
+
+    @property
+    def initial_angle_rad(self) -> float:
+        """ξ0 of the follower (cam A's base circle). [rad]"""
+        return self.cam_a.initial_angle_rad
+
+    def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
+        """Cam A's contact geometry (THEORY §2.4)."""
+        return self.cam_a.contact(theta, lift, velocity)
+
+    def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
+        """Cam A's single-contact sensitivities (THEORY §3.3)."""
+        return self.cam_a.sensitivities(geometry, theta)
+
+    def curvature_radius(
+        self,
+        theta_rad: FloatArray,
+        lift: FloatArray,
+        velocity: FloatArray,
+        acceleration: FloatArray,
+    ) -> FloatArray:
+        """Cam A's signed profile radius of curvature. [mm]"""
+        return self.cam_a.curvature_radius(theta_rad, lift, velocity, acceleration)
+
+    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
+        """Cam A's undercut mask."""
+        return self.cam_a.undercut_mask(curvature_radius_mm)
+
+    def nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """Cam A's IT-grade nominal sizes."""
+        return self.cam_a.nominal_size(key, max_radius_mm)
+
+    def summary(self) -> list[tuple[str, str]]:
+        """Parameters with units."""
+        return [
+            ("follower", "conjugate cams, oscillating double roller"),
+            ("base radius r_b (cam A)", f"{self.base_radius_mm:g} mm"),
+            ("roller radii r_C, r_D", f"{self.roller_radius_mm:g} mm, {self.roller_d_mm:g} mm"),
+            ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
+            ("arm lengths l_A, l_B", f"{self.arm_a_mm:g} mm, {self.arm_b_mm:g} mm"),
+            ("arm angle η", f"{math.degrees(self.arm_angle_rad):g}°"),
+            ("initial follower angle ξ0", f"{math.degrees(self.initial_angle_rad):.4f}°"),
+        ]
+
+
+@dataclass(frozen=True)
+class ConjugateKinematics:
+    """Both cams of a conjugate pair on one θ grid.
+
+    Attributes
+    ----------
+    a, b : Kinematics
+        Per-cam kinematics (contact points, radial dimension, signed φ, λ, ρ, ξ).
+    centre_line_angle_a_rad, centre_line_angle_b_rad : ndarray
+        α_A, α_B of THEORY §2.4. [rad]
+    pitch_a_x_mm, pitch_a_y_mm, pitch_b_x_mm, pitch_b_y_mm : ndarray
+        Roller centres C and D in the cam frame. [mm]
+    """
+
+    a: Kinematics
+    b: Kinematics
+    centre_line_angle_a_rad: FloatArray
+    centre_line_angle_b_rad: FloatArray
+    pitch_a_x_mm: FloatArray
+    pitch_a_y_mm: FloatArray
+    pitch_b_x_mm: FloatArray
+    pitch_b_y_mm: FloatArray
+
+    @property
+    def theta_rad(self) -> FloatArray:
+        """The grid. [rad]"""
+        return self.a.theta_rad
+
+
+def _pair(design: CamDesign) -> ConjugatePair:
+    mech = design.mechanism
+    if not isinstance(mech, ConjugatePair):
+        raise DesignError(
+            f"follower.type={mech.kind!r} is not a conjugate pair; this analysis needs"
+            " follower.type='conjugate'"
+        )
+    return mech
+
+
+def cam_design(design: CamDesign, cam: str) -> CamDesign:
+    """Return the single-contact design of cam ``"A"`` or ``"B"`` of a conjugate design.
+
+    Parameters
+    ----------
+    design : CamDesign
+        Design whose mechanism is a :class:`ConjugatePair`.
+    cam : {"A", "B"}
+        Which cam.
+    """
+    pair = _pair(design)
+    mech: Mechanism = pair.cam_a if cam == "A" else pair.cam_b
+    return dataclasses.replace(design, mechanism=mech, tolerances=(), name=f"{design.name} ({cam})")
+
+
+def conjugate_kinematics(
+    design: CamDesign,
+    theta_rad: ArrayLike,
+    *,
+    left_limit: ArrayLike | None = None,
+    check: bool = True,
+) -> ConjugateKinematics:
+    """Evaluate both cams of a conjugate design over θ (THEORY §2.4).
+
+    Parameters
+    ----------
+    design : CamDesign
+        Design whose mechanism is a :class:`ConjugatePair`.
+    theta_rad : array_like
+        Cam angles from the line of centres. [rad]
+    left_limit : array_like of bool, optional
+        Rows that take the left limit at segment boundaries.
+    check : bool
+        Raise on undercut, V ≥ 1 or |φ| ≥ 90° of either cam (with the cam angle).
+
+    Raises
+    ------
+    GeometryError, UndercutError
+        As :func:`camtol.kinematics.kinematics`, for cam A or cam B.
+    """
+    pair = _pair(design)
+    theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
+    kins = []
+    for cam in ("A", "B"):
+        try:
+            kins.append(
+                kinematics(cam_design(design, cam), theta, left_limit=left_limit, check=check)
+            )
+        except GeometryError as exc:  # name the cam (same class: UndercutError stays one)
+            raise type(exc)(f"cam {cam}: {exc}") from None
+    kin_a, kin_b = kins
+    ga = pair.cam_a.contact(theta, kin_a.lift, kin_a.velocity)
+    gb = pair.cam_b.contact(theta, kin_b.lift, kin_b.velocity)
+
+    def v(x: JetLike) -> FloatArray:
+        return np.asarray(jet.value(x), dtype=float)
+
+    return ConjugateKinematics(
+        a=kin_a,
+        b=kin_b,
+        centre_line_angle_a_rad=v(ga.extras["centre_line_angle"]),
+        centre_line_angle_b_rad=v(gb.extras["centre_line_angle"]),
+        pitch_a_x_mm=v(ga.extras["pitch_x"]),
+        pitch_a_y_mm=v(ga.extras["pitch_y"]),
+        pitch_b_x_mm=v(gb.extras["pitch_x"]),
+        pitch_b_y_mm=v(gb.extras["pitch_y"]),
+    )

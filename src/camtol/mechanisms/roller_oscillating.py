@@ -1,0 +1,324 @@
+"""Oscillating roller follower (THEORY §2.4, §3.3; [CW11] §2, [Wu03], [WC05]).
+
+The same closed forms serve cam A of a conjugate pair (a single oscillating roller cam is
+cam A alone) and, mirrored, cam B (:mod:`camtol.mechanisms.conjugate`).
+
+References
+----------
+.. [CW11] W.-T. Chang, L.-I. Wu, "A convenient and inexpensive quality control method for
+   examining the accuracy of conjugate cam profiles", in *Wide Spectra of Quality
+   Control*, InTech, 2011, ch. 20. doi:10.5772/23665
+.. [Wu03] L.-I. Wu, Proc. IMechE C 217(10):1117-1123, 2003. doi:10.1243/095440603322517126
+.. [WC05] L.-I. Wu, W.-T. Chang, Proc. IMechE C 219(2):209-224, 2005.
+   doi:10.1243/095440605X8478
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from camtol import jet
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray, Jet, JetLike
+from camtol.mechanisms.base import (
+    ContactGeometry,
+    ErrorSource,
+    Mechanism,
+    OutputKind,
+    require_positive,
+    shift_angle,
+)
+from camtol.mechanisms.roller_translating import pitch_curvature_radius, roller_undercut_mask
+
+__all__ = [
+    "RollerOscillating",
+    "oscillating_roller_contact",
+    "oscillating_roller_pitch",
+    "oscillating_roller_sensitivities",
+]
+
+
+def oscillating_roller_pitch(
+    theta: JetLike, gamma: JetLike, pivot_mm: float, arm_mm: float, side: int
+) -> tuple[JetLike, JetLike]:
+    """Roller centre of an oscillating arm in the cam frame (THEORY §2.4). [mm]
+
+    Parameters
+    ----------
+    theta : JetLike
+        Cam angle θ from the line of centres O2O3. [rad]
+    gamma : JetLike
+        Arm angle at O3 from O3O2: ξ for cam A, η − ξ for cam B. [rad]
+    pivot_mm, arm_mm : float
+        Centre distance f and arm length l. [mm]
+    side : {-1, +1}
+        −1 for cam A (arm at θ + 180° − ξ), +1 for cam B (arm at θ + 180° + η − ξ).
+
+    Returns
+    -------
+    tuple of JetLike
+        C = f·(cos θ, sin θ) − l·(cos(θ + side·γ), sin(θ + side·γ)). [mm]
+    """
+    beta = theta + side * gamma
+    return (
+        pivot_mm * jet.cos(theta) - arm_mm * jet.cos(beta),
+        pivot_mm * jet.sin(theta) - arm_mm * jet.sin(beta),
+    )
+
+
+def oscillating_roller_contact(
+    theta: JetLike,
+    gamma: JetLike,
+    velocity: JetLike,
+    pivot_mm: float,
+    arm_mm: float,
+    roller_mm: float,
+    side: int,
+) -> ContactGeometry:
+    r"""Contact geometry of an oscillating roller on its cam (THEORY §2.4, [CW11] eqs. 1-11).
+
+    Parameters
+    ----------
+    theta : JetLike
+        Cam angle θ from the line of centres. [rad]
+    gamma : JetLike
+        Arm angle at O3 from O3O2: ξ (cam A) or η − ξ (cam B). [rad]
+    velocity : JetLike
+        V = dξ/dθ of the follower. [rad/rad]
+    pivot_mm, arm_mm, roller_mm : float
+        f, l and r_f. [mm]
+    side : {-1, +1}
+        −1 cam A, +1 cam B (see :func:`oscillating_roller_pitch`).
+
+    Returns
+    -------
+    ContactGeometry
+        Extras: ``pitch_x``, ``pitch_y`` roller centre [mm]; ``normal_x``, ``normal_y``
+        outward unit normal A → C [-]; ``follower_angle`` is *not* set here;
+        ``centre_line_angle`` α [rad]; ``arm_angle`` γ [rad].
+
+    Notes
+    -----
+    With O2Q = −q (cos θ, sin θ), q = fV/(1 − V) (THEORY §0), the normal through Q and the
+    roller centre C gives A = C − r_f n, n = (C − Q)/|C − Q|. α is the angle at Q from the
+    line of centres to the normal QC, counterclockwise for cam A and clockwise for cam B
+    (THEORY's asin forms; atan2 here keeps the branch), and φ = 90° − α − γ
+    (φ_A = 90° − α_A − ξ, φ_B = 90° − α_B − (η − ξ)), signed as THEORY writes it.
+    """
+    cx, cy = oscillating_roller_pitch(theta, gamma, pivot_mm, arm_mm, side)
+    c, s = jet.cos(theta), jet.sin(theta)
+    q = pivot_mm * velocity / (1.0 - velocity)
+    qx, qy = -q * c, -q * s
+    dx, dy = cx - qx, cy - qy
+    dist = jet.hypot(dx, dy)
+    nx, ny = dx / dist, dy / dist
+    ax, ay = cx - roller_mm * nx, cy - roller_mm * ny
+    alpha = jet.arctan2(-side * (c * ny - s * nx), c * nx + s * ny)
+    pressure = math.pi / 2 - alpha - gamma
+    return ContactGeometry(
+        ax,
+        ay,
+        qx,
+        qy,
+        q,
+        pressure,
+        shift_angle(ax, ay, qx, qy),
+        {
+            "pitch_x": cx,
+            "pitch_y": cy,
+            "normal_x": nx,
+            "normal_y": ny,
+            "centre_line_angle": alpha,
+            "arm_angle": gamma,
+        },
+    )
+
+
+def oscillating_roller_sensitivities(
+    geometry: ContactGeometry, arm_mm: float, side: int
+) -> dict[str, JetLike]:
+    r"""Δξ per unit error of an oscillating roller, rad per mm (THEORY §3.3, [WC05]).
+
+    Parameters
+    ----------
+    geometry : ContactGeometry
+        From :func:`oscillating_roller_contact`.
+    arm_mm : float
+        Arm length l. [mm]
+    side : {-1, +1}
+        −1 cam A, +1 cam B.
+
+    Returns
+    -------
+    dict
+        ``r``, ``n``, ``rf``, ``l``, ``f`` [rad/mm].
+
+    Notes
+    -----
+    Implicit differentiation of the contact constraint "C stays at distance r_f from the
+    profile along the outward normal n": n·ΔC = Δn + Δr_f. With the arm direction û (O3 → C),
+    v̂ = dC/dξ / l (û turned −90°) and the line of centres ê = (cos θ, sin θ):
+    n·v̂ = k cos φ, n·û = −sin φ, n·ê = cos α, where k = +1 for cam A (ξ up pushes the
+    roller out of the cam) and k = −1 for cam B. ΔC = l v̂ Δξ + û Δl + ê Δf, hence
+
+    .. math::
+
+        Δξ = \frac{Δn + Δr_f + Δl \sin φ - Δf \cos α}{k\, l \cos φ}
+
+    i.e. (cam A, k = 1) ΔS_r = Δr cos λ/(l cos φ), ΔS_n = Δn/(l cos φ),
+    ΔS_rf = Δr_f/(l cos φ), **ΔS_l = +Δl tan φ / l**, ΔS_f = −Δf cos α/(l cos φ).
+
+    THEORY §3.3 expects ΔS_l = −Δl tan φ/l; with §2.4's signed φ the sign is + (on the base
+    circle l² + f² − 2lf cos ξ = r_p² gives dξ/dl = (f cos ξ − l)/(l f sin ξ) = tan φ/l),
+    which also agrees with the + sign of Δl_A in THEORY §4.1's Δf_l. Exact re-solution in
+    the tests confirms it.
+    """
+    k = -float(side)
+    phi = geometry.pressure_angle
+    inv = k / (arm_mm * jet.cos(phi))
+    return {
+        "r": jet.cos(geometry.shift_angle) * inv,
+        "n": inv,
+        "rf": inv,
+        "l": k * jet.tan(phi) / arm_mm,
+        "f": -jet.cos(geometry.extras["centre_line_angle"]) * inv,
+    }
+
+
+@dataclass(frozen=True)
+class RollerOscillating(Mechanism):
+    r"""Oscillating roller follower (cam A of THEORY §2.4 alone); output ξ in radians.
+
+    Parameters
+    ----------
+    base_radius_mm : float
+        Base-circle radius r_b of the cam profile. [mm]
+    roller_radius_mm : float
+        Roller radius r_f. [mm]
+    pivot_distance_mm : float
+        Centre distance f = |O2O3|. [mm]
+    arm_length_mm : float
+        Arm length l = |O3C|. [mm]
+
+    Notes
+    -----
+    THEORY §2.4 ([CW11] §2): ξ = acos((l² + f² − (r_b + r_f)²)/(2lf)) + S, θ measured from the
+    line of centres, O3 = f·(cos θ, sin θ), C = O3 + l·(cos(θ+180°−ξ), sin(θ+180°−ξ)),
+    q = fV/(1 − V) (follower turning with the cam, THEORY §0; V < 1 required),
+    φ = 90° − α − ξ. Profile radius of curvature ρ = ρ_pitch − r_f (signed, > 0 convex);
+    undercut where 0 < ρ_pitch ≤ r_f.
+    """
+
+    base_radius_mm: float
+    roller_radius_mm: float
+    pivot_distance_mm: float
+    arm_length_mm: float
+
+    kind: ClassVar[str] = "roller_oscillating"
+    output: ClassVar[OutputKind] = "oscillating"
+    sources: ClassVar[tuple[ErrorSource, ...]] = (
+        ErrorSource("r", "radial profile error Δr", "mm"),
+        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("rf", "roller-radius error Δr_f", "mm"),
+        ErrorSource("l", "arm-length error Δl", "mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm"),
+    )
+    #: −1: the arm of cam A (THEORY §2.4).
+    side: ClassVar[int] = -1
+
+    def __post_init__(self) -> None:
+        require_positive("follower.base_radius_mm", self.base_radius_mm)
+        require_positive("follower.roller_radius_mm", self.roller_radius_mm)
+        require_positive("follower.pivot_distance_mm", self.pivot_distance_mm)
+        require_positive("follower.arm_length_mm", self.arm_length_mm)
+        f, l_, rp = self.pivot_distance_mm, self.arm_length_mm, self.prime_radius_mm
+        if not abs(f - l_) < rp < f + l_:
+            raise DesignError(
+                f"follower.arm_length_mm={l_:g} with pivot_distance_mm={f:g} cannot put the"
+                f" roller on the prime circle r_b + r_f = {rp:g} mm; need |f − l| < r_b + r_f"
+                " < f + l"
+            )
+
+    @property
+    def prime_radius_mm(self) -> float:
+        """Prime-circle radius r_p = r_b + r_f. [mm]"""
+        return self.base_radius_mm + self.roller_radius_mm
+
+    @property
+    def initial_angle_rad(self) -> float:
+        """ξ0 = acos((l² + f² − r_p²)/(2lf)), the follower angle on the base circle. [rad]"""
+        f, l_ = self.pivot_distance_mm, self.arm_length_mm
+        return math.acos((l_**2 + f**2 - self.prime_radius_mm**2) / (2.0 * l_ * f))
+
+    def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
+        """Contact geometry (THEORY §2.4); extras as :func:`oscillating_roller_contact`.
+
+        Also ``follower_angle`` ξ [rad].
+        """
+        xi = self.initial_angle_rad + lift
+        g = oscillating_roller_contact(
+            theta,
+            xi,
+            velocity,
+            self.pivot_distance_mm,
+            self.arm_length_mm,
+            self.roller_radius_mm,
+            self.side,
+        )
+        g.extras["follower_angle"] = xi
+        return g
+
+    def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
+        """Δξ per unit error, rad per mm (THEORY §3.3).
+
+        The derivation is in :func:`oscillating_roller_sensitivities`.
+        """
+        return oscillating_roller_sensitivities(geometry, self.arm_length_mm, self.side)
+
+    def curvature_radius(
+        self,
+        theta_rad: FloatArray,
+        lift: FloatArray,
+        velocity: FloatArray,
+        acceleration: FloatArray,
+    ) -> FloatArray:
+        """Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]"""
+        theta = Jet.variable(np.asarray(theta_rad, float))
+        xi = self.initial_angle_rad + Jet(
+            np.asarray(lift, float), np.asarray(velocity, float), np.asarray(acceleration, float)
+        )
+        cx, cy = oscillating_roller_pitch(
+            theta, xi, self.pivot_distance_mm, self.arm_length_mm, self.side
+        )
+        assert isinstance(cx, Jet) and isinstance(cy, Jet)
+        return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
+
+    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
+        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.4)."""
+        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)
+
+    def nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """IT-grade nominal sizes: max radial dimension for r and n, r_f, l, f."""
+        return {
+            "r": max_radius_mm,
+            "n": max_radius_mm,
+            "rf": self.roller_radius_mm,
+            "l": self.arm_length_mm,
+            "f": self.pivot_distance_mm,
+        }[key]
+
+    def summary(self) -> list[tuple[str, str]]:
+        """Parameters with units."""
+        return [
+            ("follower", "oscillating roller"),
+            ("base radius r_b", f"{self.base_radius_mm:g} mm"),
+            ("roller radius r_f", f"{self.roller_radius_mm:g} mm"),
+            ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
+            ("arm length l", f"{self.arm_length_mm:g} mm"),
+            ("initial follower angle ξ0", f"{math.degrees(self.initial_angle_rad):.4f}°"),
+        ]

@@ -1,0 +1,235 @@
+"""Reports of conjugate designs: both cams' curves, and the fixture analysis (THEORY §4).
+
+Used by ``camtol analyze`` on a conjugate design (both profiles, pressure and shift angles
+per cam) and by ``camtol conjugate`` (extremes, acceptance verdicts, failing intervals).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from camtol import __version__
+from camtol.analysis import Analysis
+from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+from camtol.jet import FloatArray
+from camtol.kinematics import kinematics
+from camtol.mechanisms.conjugate import cam_design
+
+__all__ = [
+    "conjugate_analysis_json",
+    "conjugate_profile_columns",
+    "fixture_curves_columns",
+    "fixture_json",
+    "print_fixture",
+    "write_fixture_curves_csv",
+]
+
+
+def conjugate_profile_columns(
+    a: Analysis, cols: dict[str, np.ndarray[Any, Any]]
+) -> dict[str, np.ndarray[Any, Any]]:
+    """Curves of ``camtol analyze`` for a conjugate design: both cams' profiles and angles.
+
+    The single-contact columns (cam A) are kept; ``x_mm, y_mm`` become ``xA_mm, yA_mm``
+    and cam B's ``xB_mm, yB_mm``, radius, pressure and shift angles and radius of
+    curvature follow (suffix ``_A``/``_B``).
+    """
+    k = a.kinematics
+    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    out: dict[str, np.ndarray[Any, Any]] = {}
+    for name, values in cols.items():
+        if name == "x_mm":
+            out["xA_mm"] = values
+            out["yA_mm"] = cols["y_mm"]
+            out["xB_mm"] = kb.contact_x_mm
+            out["yB_mm"] = kb.contact_y_mm
+        elif name == "y_mm":
+            continue
+        elif name in ("radius_mm", "curvature_radius_mm"):
+            stem = name.removesuffix("_mm")
+            out[f"{stem}_A_mm"] = values
+            out[f"{stem}_B_mm"] = getattr(kb, name)
+        elif name in ("pressure_angle_deg", "shift_angle_deg"):
+            stem = name.removesuffix("_deg")
+            out[f"{stem}_A_deg"] = values
+            out[f"{stem}_B_deg"] = np.degrees(getattr(kb, f"{stem}_rad"))
+        else:
+            out[name] = values
+    return out
+
+
+def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
+    """Cam B's validity figures for the JSON of ``camtol analyze`` on a conjugate design."""
+    k = a.kinematics
+    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    i = int(np.argmin(kb.curvature_radius_mm))
+    return {
+        "max_radius_mm": float(kb.radius_mm.max()),
+        "min_curvature_radius_mm": float(kb.curvature_radius_mm[i]),
+        "min_curvature_at_deg": float(np.degrees(kb.theta_rad[i])),
+        "pressure_angle_deg": [
+            float(np.degrees(kb.pressure_angle_rad.min())),
+            float(np.degrees(kb.pressure_angle_rad.max())),
+        ],
+        "shift_angle_deg": [
+            float(np.degrees(kb.shift_angle_rad.min())),
+            float(np.degrees(kb.shift_angle_rad.max())),
+        ],
+    }
+
+
+def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
+    """Every fixture curve on the grid, keyed by CSV column name (µm, degrees)."""
+    v, b = res.variation, res.bands
+    nan = np.full(res.theta_rad.shape, np.nan)
+    est = res.estimate
+    return {
+        "theta_deg": np.degrees(res.theta_rad),
+        "df_r_um": v.df_r_um,
+        "df_rf_um": v.df_rf_um,
+        "df_l_um": v.df_l_um,
+        "df_eta_um": v.df_eta_um,
+        "df_est_um": v.df_est_um,
+        "df_mea_um": est.df_mea_um if est is not None else nan,
+        "dr_A_est_um": est.dr_a_est_um if est is not None else nan,
+        "dr_B_est_um": est.dr_b_est_um if est is not None else nan,
+        "df_A_upper_um": b.df_a_upper_um,
+        "df_A_lower_um": b.df_a_lower_um,
+        "df_B_upper_um": b.df_b_upper_um,
+        "df_B_lower_um": b.df_b_lower_um,
+        "pressure_angle_A_deg": np.degrees(res.factors.pressure_a_rad),
+        "pressure_angle_B_deg": np.degrees(res.factors.pressure_b_rad),
+        "shift_angle_A_deg": np.degrees(res.factors.shift_a_rad),
+        "shift_angle_B_deg": np.degrees(res.factors.shift_b_rad),
+    }
+
+
+def write_fixture_curves_csv(res: FixtureInspection, path: str | Path) -> None:
+    """Write one row per grid angle (atomically)."""
+    from camtol.report.tables import atomic_write_text
+
+    cols = fixture_curves_columns(res)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    data = np.column_stack(list(cols.values()))
+    w.writerows([[f"{x:.10g}" if math.isfinite(x) else "" for x in row] for row in data])
+    atomic_write_text(path, buf.getvalue())
+
+
+def _extreme(theta_deg: FloatArray, values: FloatArray) -> dict[str, float]:
+    i, j = int(np.argmin(values)), int(np.argmax(values))
+    return {
+        "min": float(values[i]),
+        "min_at_deg": float(theta_deg[i]),
+        "max": float(values[j]),
+        "max_at_deg": float(theta_deg[j]),
+    }
+
+
+def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[str, Any]:
+    """JSON-ready dict: inputs, extremes of every curve, verdicts and failing intervals."""
+    th = np.degrees(res.theta_rad)
+    cols = fixture_curves_columns(res)
+    extremes = {
+        k: _extreme(th, v) for k, v in cols.items() if k != "theta_deg" and np.all(np.isfinite(v))
+    }
+    e = spec.errors
+    return {
+        "camtol_version": __version__,
+        "design": name,
+        "step_deg": float(th[1] - th[0]),
+        "inputs": {
+            "tolerance_A_um": list(spec.tolerance_a_um),
+            "tolerance_B_um": list(spec.tolerance_b_um),
+            "dl_A_um": e.dl_a_mm * 1e3,
+            "dl_B_um": e.dl_b_mm * 1e3,
+            "drr_C_um": e.drr_c_mm * 1e3,
+            "drr_D_um": e.drr_d_mm * 1e3,
+            "deta_deg": math.degrees(e.deta_rad),
+            "master_A": spec.master_a.description,
+            "master_B": spec.master_b.description,
+            "df_mea": spec.df_mea.description if spec.df_mea is not None else None,
+        },
+        "extremes": extremes,
+        "verdicts": {
+            cam: {
+                "passed": v.passed,
+                "failing_intervals_deg": [
+                    [round(a, 4), round(b, 4)] for a, b in v.failing_intervals_deg
+                ],
+                "min_margin_um": v.min_margin_um,
+            }
+            for cam, v in res.verdicts.items()
+        },
+        "passed": res.passed,
+    }
+
+
+def _interval_text(intervals: list[tuple[float, float]]) -> str:
+    return ", ".join(f"{a:.2f}-{b:.2f}°" for a, b in intervals)
+
+
+def print_fixture(
+    res: FixtureInspection, spec: FixtureSpec, name: str, *, console: Any = None
+) -> None:
+    """Print the extremes table and the verdicts (rich)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    con = console or Console(width=None if sys.stdout.isatty() else 132)
+    con.print(f"[bold]{name}[/bold]: conjugate-cam fixture analysis (camtol {__version__})")
+    e = spec.errors
+    params = Table(show_header=False, box=None, pad_edge=False)
+    params.add_row(
+        "tolerance cam A", f"{spec.tolerance_a_um[0]:g} .. {spec.tolerance_a_um[1]:g} µm"
+    )
+    params.add_row(
+        "tolerance cam B", f"{spec.tolerance_b_um[0]:g} .. {spec.tolerance_b_um[1]:g} µm"
+    )
+    params.add_row("Δl_A, Δl_B", f"{e.dl_a_mm * 1e3:g} µm, {e.dl_b_mm * 1e3:g} µm")
+    params.add_row("Δr_rC, Δr_rD", f"{e.drr_c_mm * 1e3:g} µm, {e.drr_d_mm * 1e3:g} µm")
+    params.add_row("Δη", f"{math.degrees(e.deta_rad):g}°")
+    params.add_row("master cam A", spec.master_a.description)
+    params.add_row("master cam B", spec.master_b.description)
+    params.add_row("measured Δf", spec.df_mea.description if spec.df_mea else "(none)")
+    con.print(params)
+    th = np.degrees(res.theta_rad)
+    table = Table(title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°), µm")
+    for col in ("quantity", "max", "at θ", "min", "at θ"):
+        table.add_column(col, justify="left" if col == "quantity" else "right")
+    for key, vals in fixture_curves_columns(res).items():
+        if key == "theta_deg" or key.endswith("_deg") or not np.all(np.isfinite(vals)):
+            continue
+        x = _extreme(th, vals)
+        table.add_row(
+            key.removesuffix("_um"),
+            f"{x['max']:.3f}",
+            f"{x['max_at_deg']:.1f}°",
+            f"{x['min']:.3f}",
+            f"{x['min_at_deg']:.1f}°",
+        )
+    con.print(table)
+    if not res.verdicts:
+        con.print("No measured Δf: forward variation of the master pair only; no verdict.")
+        return
+    for cam, v in res.verdicts.items():
+        if v.passed:
+            con.print(f"cam {cam}: [green]PASS[/green] (min margin {v.min_margin_um:.3f} µm)")
+        else:
+            con.print(
+                f"cam {cam}: [red]FAIL[/red] at θ = {_interval_text(v.failing_intervals_deg)}"
+                f" (worst margin {v.min_margin_um:.3f} µm)"
+            )
+    con.print(
+        "Acceptance (THEORY §4.3, a necessary condition): Δf_lower,est ≤ Δf_mea ≤ Δf_upper,est;"
+        " interval ends located to 1e-4°.",
+        style="dim",
+    )
