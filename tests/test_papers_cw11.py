@@ -131,7 +131,7 @@ def test_cli_conjugate_json_and_curves(tmp_path: Path, capsys: pytest.CaptureFix
         "df_l_um",
         "df_eta_um",
     ):
-        assert set(data["extremes"][key]) == {"min", "min_at_deg", "max", "max_at_deg"}
+        assert {"min", "min_at_deg", "max", "max_at_deg"} <= set(data["extremes"][key])
     with curves.open() as fh:
         header = next(csv.reader(fh))
     for col in (

@@ -73,11 +73,15 @@ def _plateaus(
 ) -> tuple[tuple[float, float], ...]:
     runs = _runs(np.abs(values - target) <= tol)
     spans = [(float(theta_deg[i]), float(theta_deg[j])) for i, j in runs]
-    # Join a run ending at 360° with one starting at 0° (they are the same angle).
-    if len(spans) > 1 and spans[0][0] <= 1e-9 and spans[-1][1] >= 360 - 1e-9:
+    # A run reaching the end of the grid continues into one starting at 0° (the grid may
+    # or may not hold 360° itself).
+    wraps = spans and spans[0][0] <= 1e-9 and spans[-1][1] >= 360.0 - 1.5 * step_deg
+    if wraps and len(spans) == 1:
+        spans = [(0.0, 360.0)]
+    elif wraps:
         first = spans.pop(0)
         last = spans.pop()
-        spans.append((last[0], last[1] + first[1]))
+        spans.append((last[0], 360.0 + first[1]))
     if not any(b - a > 1.5 * step_deg for a, b in spans):
         return ()
     return tuple(spans)

@@ -257,3 +257,20 @@ def test_needs_conjugate_design_and_valid_step() -> None:
         conjugate_factors(THETA, CamDesign("x", RollerOscillating(60, 16, 120, 66), PROGRAM))
     with pytest.raises(DesignError, match="step_deg"):
         inspect_conjugate(DESIGN, _spec(None), step_deg=0.7)
+
+
+def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
+    """Extremes use the shared finder: located to step/1000, constants as 0-360°."""
+    from camtol.config import load_example
+    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
+
+    design = load_example("cw11-conjugate")
+    spec = fixture_spec_from_mapping(design.extras["inspection"])
+    coarse = inspect_conjugate(design, spec, step_deg=1.0)
+    fine = inspect_conjugate(design, spec, step_deg=0.1)
+    mx_c, _ = coarse.extremes["dr_A_est"]
+    mx_f, _ = fine.extremes["dr_A_est"]
+    # refined on a 1° grid to 0.001°, the location agrees with the 0.1° grid's refinement
+    assert mx_c.theta_deg == pytest.approx(mx_f.theta_deg, abs=2e-3)
+    assert mx_c.value == pytest.approx(mx_f.value, abs=1e-6)  # quadratic in the location error
+    assert fine.extremes["df_mea"][0].ranges_deg == ((0.0, 360.0),)

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike
 
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, InputFileError
+from camtol.extremes import Extreme, find_extremes
 from camtol.jet import FloatArray
 from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
 
@@ -813,6 +814,9 @@ class FixtureInspection:
         The four bands. [µm]
     verdicts : dict of str to CamVerdict or None
         ``"A"``, ``"B"``; empty without a measurement.
+    extremes : dict of str to (Extreme, Extreme)
+        Global (max, min) of every curve of :func:`fixture_curves`, refined to step/1000;
+        a value held over an angle range is reported as that range. [µm]
     """
 
     theta_rad: FloatArray
@@ -821,6 +825,7 @@ class FixtureInspection:
     estimate: InverseEstimate | None
     bands: AcceptanceBands
     verdicts: dict[str, CamVerdict]
+    extremes: dict[str, tuple[Extreme, Extreme]]
 
     @property
     def passed(self) -> bool | None:
@@ -853,16 +858,17 @@ def inspect_conjugate(
     if n < 4 or abs(n * step_deg - 360.0) > 1e-9:
         raise DesignError(f"step_deg={step_deg:g} is not allowed; 360 must be a multiple of it")
     theta: FloatArray = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    fac = conjugate_factors(theta, design)
-    bands = acceptance_bands(
-        fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
+    fac, variation, est, bands = _fixture_parts(design, spec, theta)
+
+    def evaluate(t: FloatArray) -> dict[str, FloatArray]:
+        _, var_t, est_t, bands_t = _fixture_parts(design, spec, t)
+        return fixture_curves(var_t, est_t, bands_t)
+
+    extremes = find_extremes(
+        theta, fixture_curves(variation, est, bands), evaluate, step_deg=step_deg
     )
-    if spec.df_mea is None:
-        variation = conjugate_variation(fac, spec.master_a, spec.master_b, spec.errors)
-        return FixtureInspection(theta, fac, variation, None, bands, {})
-    est = inverse_estimate(fac, spec.df_mea, spec.master_a, spec.master_b, spec.errors)
-    rf, ll, eta = _constant_parts(fac, spec.errors)
-    variation = ConjugateVariation(theta, est.df_r_um, rf, ll, eta)
+    if spec.df_mea is None or est is None:
+        return FixtureInspection(theta, fac, variation, None, bands, {}, extremes)
     df_mea = spec.df_mea
 
     def margin_fn(cam: str) -> Callable[[FloatArray], FloatArray]:
@@ -894,7 +900,48 @@ def inspect_conjugate(
         m = np.minimum(est.df_mea_um - lo, up - est.df_mea_um)
         intervals = failing_intervals(theta, margin_fn(cam))
         verdicts[cam] = CamVerdict(cam, not intervals, intervals, float(m.min()))
-    return FixtureInspection(theta, fac, variation, est, bands, verdicts)
+    return FixtureInspection(theta, fac, variation, est, bands, verdicts, extremes)
+
+
+def _fixture_parts(
+    design: CamDesign, spec: FixtureSpec, theta: FloatArray
+) -> tuple[ConjugateFactors, ConjugateVariation, InverseEstimate | None, AcceptanceBands]:
+    """Geometry, variation, estimate (with a measurement) and bands at the angles."""
+    fac = conjugate_factors(theta, design)
+    bands = acceptance_bands(
+        fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
+    )
+    if spec.df_mea is None:
+        return fac, conjugate_variation(fac, spec.master_a, spec.master_b, spec.errors), None, bands
+    est = inverse_estimate(fac, spec.df_mea, spec.master_a, spec.master_b, spec.errors)
+    rf, ll, eta = _constant_parts(fac, spec.errors)
+    return fac, ConjugateVariation(theta, est.df_r_um, rf, ll, eta), est, bands
+
+
+def fixture_curves(
+    variation: ConjugateVariation, estimate: InverseEstimate | None, bands: AcceptanceBands
+) -> dict[str, FloatArray]:
+    """Collect the fixture's curves by name (µm); the estimates only with a measurement."""
+    out = {
+        "df_r": variation.df_r_um,
+        "df_rf": variation.df_rf_um,
+        "df_l": variation.df_l_um,
+        "df_eta": variation.df_eta_um,
+        "df_est": variation.df_est_um,
+    }
+    if estimate is not None:
+        out |= {
+            "df_mea": estimate.df_mea_um,
+            "dr_A_est": estimate.dr_a_est_um,
+            "dr_B_est": estimate.dr_b_est_um,
+        }
+    out |= {
+        "df_A_upper": bands.df_a_upper_um,
+        "df_A_lower": bands.df_a_lower_um,
+        "df_B_upper": bands.df_b_upper_um,
+        "df_B_lower": bands.df_b_lower_um,
+    }
+    return {k: np.asarray(v, dtype=float) for k, v in out.items()}
 
 
 _SPEC_KEYS = (

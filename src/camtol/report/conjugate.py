@@ -17,6 +17,7 @@ import numpy as np
 
 from camtol import __version__
 from camtol.analysis import Analysis
+from camtol.extremes import Extreme
 from camtol.inspection.fixture import FixtureInspection, FixtureSpec
 from camtol.jet import FloatArray
 from camtol.kinematics import kinematics
@@ -124,23 +125,21 @@ def write_fixture_curves_csv(res: FixtureInspection, path: str | Path) -> None:
     atomic_write_text(path, buf.getvalue())
 
 
-def _extreme(theta_deg: FloatArray, values: FloatArray) -> dict[str, float]:
-    i, j = int(np.argmin(values)), int(np.argmax(values))
+def _extreme(mx: Extreme, mn: Extreme) -> dict[str, Any]:
     return {
-        "min": float(values[i]),
-        "min_at_deg": float(theta_deg[i]),
-        "max": float(values[j]),
-        "max_at_deg": float(theta_deg[j]),
+        "min": mn.value,
+        "min_at_deg": round(mn.theta_deg, 4),
+        "min_ranges_deg": [[round(a, 4), round(b, 4)] for a, b in mn.ranges_deg],
+        "max": mx.value,
+        "max_at_deg": round(mx.theta_deg, 4),
+        "max_ranges_deg": [[round(a, 4), round(b, 4)] for a, b in mx.ranges_deg],
     }
 
 
 def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[str, Any]:
     """JSON-ready dict: inputs, extremes of every curve, verdicts and failing intervals."""
     th = np.degrees(res.theta_rad)
-    cols = fixture_curves_columns(res)
-    extremes = {
-        k: _extreme(th, v) for k, v in cols.items() if k != "theta_deg" and np.all(np.isfinite(v))
-    }
+    extremes = {f"{k}_um": _extreme(mx, mn) for k, (mx, mn) in res.extremes.items()}
     e = spec.errors
     return {
         "camtol_version": __version__,
@@ -202,20 +201,11 @@ def print_fixture(
     params.add_row("measured Δf", spec.df_mea.description if spec.df_mea else "(none)")
     con.print(params)
     th = np.degrees(res.theta_rad)
-    table = Table(title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°), µm")
+    table = Table(title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined), µm")
     for col in ("quantity", "max", "at θ", "min", "at θ"):
-        table.add_column(col, justify="left" if col == "quantity" else "right")
-    for key, vals in fixture_curves_columns(res).items():
-        if key == "theta_deg" or key.endswith("_deg") or not np.all(np.isfinite(vals)):
-            continue
-        x = _extreme(th, vals)
-        table.add_row(
-            key.removesuffix("_um"),
-            f"{x['max']:.3f}",
-            f"{x['max_at_deg']:.1f}°",
-            f"{x['min']:.3f}",
-            f"{x['min_at_deg']:.1f}°",
-        )
+        table.add_column(col, justify="left" if col in ("quantity", "at θ") else "right")
+    for key, (mx, mn) in res.extremes.items():
+        table.add_row(key, f"{mx.value:.3f}", mx.where, f"{mn.value:.3f}", mn.where)
     con.print(table)
     if not res.verdicts:
         con.print("No measured Δf: forward variation of the master pair only; no verdict.")
