@@ -167,3 +167,17 @@ def test_core_import_is_light() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == ""
+
+
+def test_outputs_get_ordinary_permissions(tmp_path: Path) -> None:
+    """Atomic writes must not leave files readable by the owner only (mkstemp's 0600)."""
+    import os
+
+    umask = os.umask(0o022)
+    try:
+        out = tmp_path / "c.csv"
+        assert main(["analyze", "-e", "cw06-translating", "--curves", str(out), "-q"]) == 0
+        assert out.stat().st_mode & 0o777 == 0o644
+        assert [p.name for p in tmp_path.iterdir()] == ["c.csv"]  # no temporary left
+    finally:
+        os.umask(umask)

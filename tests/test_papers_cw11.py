@@ -236,3 +236,14 @@ def test_cli_experiment_with_a_csv_record(
     np.testing.assert_allclose(
         rows["dr_A_est_um"], 100 * np.sin(np.radians(rows["theta_deg"])), atol=1e-6
     )
+
+
+def test_cli_conjugate_plot(tmp_path: Path) -> None:
+    from camtol.cli import main
+
+    out = tmp_path / "fixture.png"
+    assert main(["conjugate", "-e", "cw11-conjugate", "--plot", str(out), "-q"]) == 1
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    bad = tmp_path / "fixture.gif"
+    assert main(["conjugate", "-e", "cw11-conjugate", "--plot", str(bad), "-q"]) == 2
+    assert not bad.exists()

@@ -151,21 +151,12 @@ def _json_default(o: Any) -> Any:
 
 
 def _save_figure(analysis: Any, path: str) -> None:
-    import os
-    import tempfile
-
+    from camtol.report.files import atomic_output
     from camtol.report.plots import analysis_figure
 
     fig = analysis_figure(analysis)
-    p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, format=p.suffix.lstrip(".").lower())
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
 
 
 @cli.group(invoke_without_command=True)
@@ -196,8 +187,11 @@ def examples_show(name: str) -> None:
 def _register_subcommands() -> None:
     """Add the commands that live in their own modules."""
     from camtol.cli_conjugate import conjugate
+    from camtol.cli_report import profile, report
 
     cli.add_command(conjugate)
+    cli.add_command(profile)
+    cli.add_command(report)
 
 
 _register_subcommands()

@@ -56,6 +56,11 @@ __all__ = ["conjugate"]
     metavar="FILE.csv",
     help="Write one row per angle: Δf parts, Δr_A,est, Δr_B,est and the four bands (µm).",
 )
+@click.option(
+    "--plot",
+    metavar="FILE.png",
+    help="Write the fixture figure: Δf parts, estimated errors, acceptance bands (PNG/SVG/PDF).",
+)
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
 def conjugate(
     design: str | None,
@@ -66,6 +71,7 @@ def conjugate(
     step_deg: float,
     as_json: bool,
     curves: str | None,
+    plot: str | None,
     quiet: bool,
 ) -> None:
     """Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.
@@ -78,6 +84,7 @@ def conjugate(
 
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         from camtol.inspection.fixture import (
             ErrorFunction,
             fixture_spec_from_mapping,
@@ -117,6 +124,15 @@ def conjugate(
         res = inspect_conjugate(d, spec, step_deg=step_deg)
         if curves:
             rep.write_fixture_curves_csv(res, curves)
+        if plot:
+            from camtol.report.files import atomic_output
+            from camtol.report.plots import fixture_figure
+
+            fig = fixture_figure(
+                res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+            )
+            with atomic_output(plot) as tmp:
+                fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if as_json:
             click.echo(
                 json.dumps(rep.fixture_json(res, spec, d.name), indent=2, default=_json_default)

@@ -11,9 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
 import sys
-import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -24,6 +22,7 @@ from camtol import __version__
 from camtol.analysis import Analysis
 from camtol.design import IT_CONVENTIONS
 from camtol.extremes import Extreme
+from camtol.report.files import atomic_write
 
 __all__ = [
     "analysis_json",
@@ -143,19 +142,8 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
 
 
 def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write a text file atomically: a temporary file renamed into place.
-
-    A failure leaves no partial file behind.
-    """
-    p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent or ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    """Write a text file atomically (see :mod:`camtol.report.files`)."""
+    atomic_write(path, text)
 
 
 def write_curves_csv(a: Analysis, path: str | Path) -> None:

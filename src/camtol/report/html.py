@@ -1,0 +1,383 @@
+"""A self-contained HTML report of a design's analysis (`camtol report`).
+
+One file: inline CSS, figures embedded as inline SVG, no script and nothing fetched from
+anywhere, so it opens offline and can be archived with the part. It states the inputs, the
+conventions in force (THEORY §0 and the IT-grade conventions of §3.6), the verdicts, the
+extremes table, the figures and the camtol version.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import html
+import io
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camtol.analysis import Analysis, analyse
+from camtol.design import IT_CONVENTIONS, CamDesign
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+
+__all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
+
+#: Conventions of THEORY §0 stated in every report.
+CONVENTIONS: tuple[str, ...] = (
+    "lengths in millimetres; length errors in micrometres; angles in degrees",
+    "the cam turns clockwise at constant speed; the frame X-Y is fixed on the cam with its"
+    " origin at the cam pivot O2, and θ is measured counterclockwise from the cam's reference"
+    " radial (from the line of centres for oscillating followers)",
+    "an oscillating follower turns in the same sense as the cam during a rise",
+    "velocity and acceleration errors are per radian of cam angle (reduced derivatives)"
+    " unless a cam speed is given, then per second",
+    "a profile error is positive where material is added; Δr is the radial-dimension error,"
+    " Δn the error along the profile normal",
+    "each error source is taken at its tolerance, independently (linear theory, equivalent"
+    " linkage); the worst case is Σ|ΔS_p| and the RMS is sqrt(Σ ΔS_p²)",
+)
+
+_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2em auto;
+max-width:1100px;padding:0 1em;color:#1a1a1a;line-height:1.45}
+h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
+margin-top:1.6em}table{border-collapse:collapse;margin:.6em 0}
+th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left;vertical-align:top}
+td.num{text-align:right;font-variant-numeric:tabular-nums}th{background:#f2f2f2}
+.meta{color:#555}.pass{color:#11702b;font-weight:600}.fail{color:#b00020;font-weight:600}
+.figure{margin:1em 0}.figure svg{max-width:100%;height:auto}
+.figure figcaption{color:#444;font-size:.92em}code{background:#f5f5f5;padding:0 .2em}
+"""
+
+
+def _e(text: object) -> str:
+    return html.escape(str(text), quote=True)
+
+
+def _pretty(unit: str) -> str:
+    from camtol.report.plots import pretty_unit
+
+    return pretty_unit(unit)
+
+
+def _quantity(v: float, unit: str) -> str:
+    u = _pretty(unit)
+    return f"{_fmt(v)}{u}" if u == "°" else f"{_fmt(v)} {u}"
+
+
+def _fmt(v: float) -> str:
+    if not np.isfinite(v):
+        return str(v)
+    if v == 0:
+        return "0"
+    mag = int(np.floor(np.log10(abs(v))))
+    return f"{v:.{max(0, 4 - mag)}f}" if mag < 4 else f"{v:.0f}"
+
+
+def figure_svg(fig: Figure, *, prefix: str) -> str:
+    """Render a figure as an inline ``<svg>`` element with ids prefixed by ``prefix``.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    prefix : str
+        Unique prefix for the SVG's element ids, so that several figures can share one
+        HTML page without id clashes.
+
+    Returns
+    -------
+    str
+        The ``<svg ...>...</svg>`` markup (no XML declaration or DOCTYPE); text is drawn as
+        paths, so no font needs to be installed where the page is opened.
+    """
+    import matplotlib
+
+    buf = io.StringIO()
+    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": prefix}):
+        fig.savefig(buf, format="svg", metadata={"Date": None})
+    text = buf.getvalue()
+    text = text[text.index("<svg") :]
+    text = re.sub(r'\bid="([^"]+)"', rf'id="{prefix}-\1"', text)
+    text = re.sub(r'href="#([^"]+)"', rf'href="#{prefix}-\1"', text)
+    text = re.sub(r"url\(#([^)]+)\)", rf"url(#{prefix}-\1)", text)
+    return text
+
+
+def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = None) -> str:
+    numeric = numeric or set()
+    out = ["<table><thead><tr>", *(f"<th>{_e(h)}</th>" for h in head), "</tr></thead><tbody>"]
+    for row in rows:
+        out.append("<tr>")
+        for i, cell in enumerate(row):
+            cls = ' class="num"' if i in numeric else ""
+            out.append(f"<td{cls}>{_e(cell)}</td>")
+        out.append("</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
+
+
+def _inspection(
+    design: CamDesign, base_dir: Path | None
+) -> tuple[FixtureInspection, FixtureSpec] | None:
+    raw = design.extras.get("inspection")
+    if design.mechanism.kind != "conjugate" or not raw:
+        return None
+    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
+
+    spec = fixture_spec_from_mapping(raw, base_dir=base_dir)  # type: ignore[arg-type]
+    return inspect_conjugate(design, spec), spec
+
+
+def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None) -> str:
+    d = a.design
+    k = a.kinematics
+    worst = a.extremes["dS_worst"][0]
+    rho = a.extremes["curvature_radius"][1]
+    pa = float(np.degrees(np.max(np.abs(k.pressure_angle_rad))))
+    items = [
+        f"Output accuracy: max |ΔS worst case| = {_quantity(worst.value, a.error_unit)}"
+        f" at θ = {worst.where} over a travel of {_quantity(a.travel, a.travel_unit)}:"
+        f" <strong>{_e(a.accuracy.describe())}</strong> (THEORY §3.6).",
+        f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
+        ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
+    ]
+    if d.mechanism.kind == "conjugate":
+        from camtol.report.conjugate import conjugate_analysis_json
+
+        b = conjugate_analysis_json(a)
+        lo, hi = b["pressure_angle_deg"]
+        items.append(
+            f"Cam B: smallest radius of curvature {_fmt(b['min_curvature_radius_mm'])} mm at"
+            f" θ = {b['min_curvature_at_deg']:.2f}°, pressure angle {lo:.2f}° .. {hi:.2f}°,"
+            f" max radial dimension {b['max_radius_mm']:.4f} mm."
+        )
+    limit = d.pressure_angle_limit_deg
+    if limit is None:
+        items.append(f"Pressure angle: largest |φ| = {pa:.2f}° (no design limit given).")
+    else:
+        ok = pa <= limit
+        cls, word = ("pass", "within") if ok else ("fail", "BEYOND")
+        items.append(
+            f'Pressure angle: largest |φ| = {pa:.2f}° <span class="{cls}">{word}</span> the'
+            f" design limit {limit:g}°."
+        )
+    if fixture is not None:
+        res, _ = fixture
+        if not res.verdicts:
+            items.append("Fixture: no measured Δf in the design file; acceptance bands only.")
+        for cam, v in sorted(res.verdicts.items()):
+            if v.passed:
+                items.append(
+                    f'Fixture, cam {cam}: <span class="pass">passes</span> (smallest margin'
+                    f" {_fmt(v.min_margin_um)} µm; a necessary condition, THEORY §4.3)."
+                )
+            else:
+                where = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in v.failing_intervals_deg)
+                items.append(
+                    f'Fixture, cam {cam}: <span class="fail">FAILS</span> at θ = {_e(where)}'
+                    f" (smallest margin {_fmt(v.min_margin_um)} µm, THEORY §4.3)."
+                )
+    return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
+
+
+def report_html(
+    design_or_analysis: CamDesign | Analysis, *, base_dir: str | Path | None = None
+) -> str:
+    """Build the HTML report of a design as a string (see :func:`write_report`).
+
+    Parameters
+    ----------
+    design_or_analysis : CamDesign or Analysis
+        A design (analysed with the default 0.1° step) or a finished analysis.
+    base_dir : str or Path, optional
+        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
+
+    Returns
+    -------
+    str
+        The complete HTML document.
+    """
+    from camtol import __version__
+    from camtol.report.plots import analysis_figure, fixture_figure
+
+    a = (
+        design_or_analysis
+        if isinstance(design_or_analysis, Analysis)
+        else analyse(design_or_analysis)
+    )
+    d = a.design
+    fixture = _inspection(d, Path(base_dir) if base_dir is not None else None)
+    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    parts: list[str] = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        '<link rel="icon" href="data:,">',
+        f"<title>{_e(d.name)}: camtol report</title>",
+        f"<style>{_CSS}</style></head><body>",
+        f"<h1>{_e(d.name)}</h1>",
+        f'<p class="meta">camtol {_e(__version__)} report, generated {now}.'
+        f" Analysis grid {a.step_deg:g}°, extremes refined to step/1000.</p>",
+    ]
+    if d.description:
+        parts.append(
+            "<p>" + "<br>".join(_e(x) for x in d.description.strip().splitlines()) + "</p>"
+        )
+    if d.reference:
+        parts.append(f'<p class="meta">Reference: {_e(d.reference)}</p>')
+
+    parts.append("<h2>Verdicts</h2>")
+    parts.append(_verdicts(a, fixture))
+
+    parts.append("<h2>Inputs</h2>")
+    rows = [[name, value] for name, value in d.mechanism.summary()]
+    rows.append(["motion", d.describe_motion()])
+    rows.append(["cam speed", f"{d.speed_rpm:g} rpm" if d.speed_rpm else "not given (per rad)"])
+    if d.pressure_angle_limit_deg is not None:
+        rows.append(["pressure-angle limit", f"{d.pressure_angle_limit_deg:g}°"])
+    rows.append(["max radial dimension", f"{a.max_radius_mm:.4f} mm"])
+    parts.append(_table(["parameter", "value"], rows))
+    if a.tolerances:
+        trows = [
+            [t.key, d.mechanism.source(t.key).description, t.display, t.origin]
+            for t in a.tolerances
+        ]
+        parts.append("<h3>Tolerances</h3>")
+        parts.append(_table(["source", "error", "deviation", "obtained from"], trows))
+    if fixture is not None:
+        _, spec = fixture
+        er = spec.errors
+        frows = [
+            [
+                "radial tolerance of cam A",
+                f"{spec.tolerance_a_um[0]:g} .. {spec.tolerance_a_um[1]:g} µm",
+            ],
+            [
+                "radial tolerance of cam B",
+                f"{spec.tolerance_b_um[0]:g} .. {spec.tolerance_b_um[1]:g} µm",
+            ],
+            ["arm-length errors Δl_A, Δl_B", f"{er.dl_a_mm * 1e3:g} µm, {er.dl_b_mm * 1e3:g} µm"],
+            [
+                "roller-radius errors Δr_rC, Δr_rD",
+                f"{er.drr_c_mm * 1e3:g} µm, {er.drr_d_mm * 1e3:g} µm",
+            ],
+            ["arm-angle error Δη", f"{np.degrees(er.deta_rad):g}°"],
+            ["master cam A error", spec.master_a.description],
+            ["master cam B error", spec.master_b.description],
+            ["measured Δf", spec.df_mea.description if spec.df_mea is not None else "none"],
+        ]
+        parts.append("<h3>Measuring fixture (THEORY §4)</h3>")
+        parts.append(_table(["input", "value"], frows))
+
+    parts.append("<h2>Conventions and assumptions</h2><ul>")
+    parts += [f"<li>{_e(c)}</li>" for c in CONVENTIONS]
+    parts += [f"<li>IT grades: {_e(c)}</li>" for c in IT_CONVENTIONS]
+    if d.mechanism.kind == "conjugate":
+        parts.append(
+            "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
+            " (roller C); the cam drawing shows both cams</li>"
+        )
+    parts.append("</ul>")
+
+    parts.append("<h2>Extremes over 0-360°</h2>")
+    erows = []
+    for q in a.quantities:
+        mx, mn = a.extremes[q.key]
+        erows.append([q.label, _pretty(q.unit), _fmt(mx.value), mx.where, _fmt(mn.value), mn.where])
+    parts.append(_table(["quantity", "unit", "max", "at θ", "min", "at θ"], erows, {2, 4}))
+
+    parts.append("<h2>Figures</h2>")
+    figures: list[tuple[Any, str]] = [
+        (
+            analysis_figure(a),
+            "The cam and follower at the angle of the largest worst-case error; shift and"
+            " pressure angles; radial-error factor; displacement, velocity and acceleration"
+            " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
+        )
+    ]
+    if fixture is not None:
+        res, spec = fixture
+        figures.append(
+            (
+                fixture_figure(
+                    res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+                ),
+                "Centre-distance variation Δf and its components, estimated profile errors with"
+                " the tolerances, and the acceptance bands with the measured Δf; failing"
+                " intervals shaded (THEORY §4, CW11 §3).",
+            )
+        )
+    for i, (fig, caption) in enumerate(figures, start=1):
+        parts.append(
+            f'<figure class="figure" id="figure-{i}">{figure_svg(fig, prefix=f"fig{i}")}'
+            f"<figcaption>Figure {i}. {_e(caption)}</figcaption></figure>"
+        )
+    parts.append(
+        f'<hr><p class="meta">Generated by camtol {_e(__version__)}. Equations and sign'
+        " conventions: THEORY.md of the camtol sources (CW06, CW11, WC05, Wu03).</p>"
+    )
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"
+
+
+def write_report(
+    design_or_analysis: CamDesign | Analysis,
+    path: str | Path,
+    *,
+    base_dir: str | Path | None = None,
+) -> Analysis:
+    """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
+
+    Parameters
+    ----------
+    design_or_analysis : CamDesign or Analysis
+        A design (analysed with the default 0.1° step) or a finished analysis.
+    path : str or Path
+        Output file; must end in ``.html`` or ``.htm``.
+    base_dir : str or Path, optional
+        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
+
+    Returns
+    -------
+    Analysis
+        The analysis that was reported.
+
+    Raises
+    ------
+    camtol.report.export.ExportError
+        Wrong suffix or missing directory; nothing is written.
+    GeometryError, UndercutError, DesignError
+        The design cannot be analysed; nothing is written.
+
+    Notes
+    -----
+    The page holds the inputs, the conventions (THEORY §0, §3.6), the verdicts (accuracy
+    grade of the output, THEORY §3.6; curvature; pressure angle; the fixture acceptance of
+    THEORY §4.3 for a conjugate design with an ``[inspection]`` table), the extremes table
+    and the figures of :func:`camtol.report.plots.analysis_figure` (and
+    :func:`~camtol.report.plots.fixture_figure`). The file is written to a temporary name
+    and renamed into place.
+    """
+    from camtol.report.export import ExportError
+    from camtol.report.files import atomic_write
+
+    p = Path(path)
+    if p.suffix.lower() not in (".html", ".htm"):
+        raise ExportError(
+            f"output file {str(p)!r} has suffix {p.suffix or '(none)'!r}; allowed: .html, .htm"
+        )
+    if not p.parent.is_dir():
+        raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
+    a = (
+        design_or_analysis
+        if isinstance(design_or_analysis, Analysis)
+        else analyse(design_or_analysis)
+    )
+    atomic_write(p, report_html(a, base_dir=base_dir))
+    return a
