@@ -26,6 +26,7 @@ CORE = [
     "extremes.py",
     "iso286.py",
     "analysis.py",
+    "contact",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 

@@ -192,6 +192,9 @@ def _register_subcommands() -> None:
     cli.add_command(conjugate)
     cli.add_command(profile)
     cli.add_command(report)
+    from camtol.cli_verify import verify
+
+    cli.add_command(verify)
 
 
 _register_subcommands()

@@ -1,0 +1,177 @@
+"""Shapes of the contact engine: support functions, arcs, analytic profiles (THEORY §5)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from contact_designs import cw06_translating, star_polygon
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from camtol.contact.errors_profile import FourierError, TabulatedError
+from camtol.contact.shapes import AnalyticShape, PolygonShape
+from camtol.exceptions import InputFileError
+
+
+def test_fast_support_equals_bruteforce_on_nonconvex_polygon(rng: np.random.Generator) -> None:
+    poly = PolygonShape(star_polygon(rng, 500, 50.0, 8.0))
+    assert not poly.is_convex
+    psi = rng.uniform(-10, 10, 2000)
+    fast, brute = poly.support(psi), poly.support_bruteforce(psi)
+    np.testing.assert_allclose(fast.h_mm, brute.h_mm, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(fast.feature, brute.feature)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(3, 200), st.integers(0, 2**32 - 1))
+def test_support_matches_bruteforce_random_clouds(m: int, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    pts = rng.normal(size=(m, 2)) * rng.uniform(1, 100)
+    poly = PolygonShape(pts)
+    psi = rng.uniform(0, 2 * math.pi, 300)
+    fast, brute = poly.support(psi), poly.support_bruteforce(psi)
+    scale = float(np.max(np.abs(poly.vertices_mm)))
+    np.testing.assert_allclose(fast.h_mm, brute.h_mm, rtol=0, atol=1e-12 * scale)
+    # The supporting point attains the support value.
+    dot = fast.contact_x_mm * np.cos(psi) + fast.contact_y_mm * np.sin(psi)
+    np.testing.assert_allclose(dot, fast.h_mm, rtol=0, atol=1e-12 * scale)
+
+
+def test_clockwise_input_is_reversed_with_bulges() -> None:
+    sq = np.array([[1.0, 1.0], [1.0, -1.0], [-1.0, -1.0], [-1.0, 1.0]])  # clockwise
+    b = np.array([-0.2, 0.0, 0.0, 0.0])  # arc on the right edge, bulging outward
+    poly = PolygonShape(sq, b)
+    area2 = np.sum(poly.vertices_mm[:, 0] * np.roll(poly.vertices_mm[:, 1], -1)) - np.sum(
+        np.roll(poly.vertices_mm[:, 0], -1) * poly.vertices_mm[:, 1]
+    )
+    assert area2 > 0
+    # The outward bulge became a positive bulge on the counterclockwise polygon.
+    assert np.count_nonzero(poly.bulges > 0) == 1
+    # Support in +x reaches beyond the square's edge by the arc's sagitta.
+    sweep = 4 * math.atan(0.2)
+    radius = 1.0 / math.sin(sweep / 2)
+    sag = radius * (1 - math.cos(sweep / 2))
+    assert poly.support(np.array([0.0])).h_mm[0] == pytest.approx(1.0 + sag, abs=1e-12)
+
+
+def test_circle_from_four_arcs_has_constant_support() -> None:
+    radius, c = 30.0, np.array([-5.0, 2.0])
+    ang = np.array([0, 0.5, 1.0, 1.5]) * math.pi
+    verts = c + radius * np.column_stack([np.cos(ang), np.sin(ang)])
+    poly = PolygonShape(verts, np.full(4, math.tan(math.pi / 8)))
+    psi = np.linspace(-3, 9, 1001)
+    sup = poly.support(psi)
+    expected = c[0] * np.cos(psi) + c[1] * np.sin(psi) + radius
+    np.testing.assert_allclose(sup.h_mm, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(sup.radius_mm, radius, rtol=1e-12)
+    brute = poly.support_bruteforce(psi)
+    np.testing.assert_allclose(brute.h_mm, expected, rtol=0, atol=1e-12)
+
+
+def test_concave_arcs_never_support_the_hull() -> None:
+    # A square whose edges are all concave arcs: the hull is the square's corners.
+    sq = np.array([[1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0]])
+    poly = PolygonShape(sq, np.full(4, -0.3))
+    psi = np.linspace(0, 2 * math.pi, 721)
+    sup = poly.support(psi)
+    np.testing.assert_allclose(sup.h_mm, np.abs(np.cos(psi)) + np.abs(np.sin(psi)), atol=1e-12)
+    assert np.all(sup.radius_mm == 0.0)
+
+
+@pytest.mark.parametrize(
+    ("verts", "message"),
+    [
+        (np.zeros((2, 2)), "at least 3"),
+        (np.array([[0, 0], [1, 0], [np.nan, 1]]), "finite"),
+        (np.zeros((4, 3)), r"\(M, 2\)"),
+    ],
+)
+def test_bad_polygons_are_rejected(verts: np.ndarray, message: str) -> None:
+    with pytest.raises(InputFileError, match=message):
+        PolygonShape(verts)
+
+
+def test_bulges_of_wrong_length_are_rejected() -> None:
+    with pytest.raises(InputFileError, match="one per edge"):
+        PolygonShape(np.eye(3)[:, :2] + [[0, 0], [0, 0], [1, 1]], np.zeros(2))
+
+
+def test_fourier_error_derivatives() -> None:
+    err = FourierError(0.01, cos_mm=(0.002, 0.001), sin_mm=(0.003,))
+    t = np.linspace(0, 2 * math.pi, 50)
+    j = err(t)
+    h = 1e-5
+    np.testing.assert_allclose(j.d1, (err(t + h).v - err(t - h).v) / (2 * h), atol=1e-9)
+    np.testing.assert_allclose(j.d2, (err(t + h).d1 - err(t - h).d1) / (2 * h), atol=1e-8)
+    assert err.scaled(0.5)(t).v == pytest.approx(0.5 * j.v)
+
+
+def test_tabulated_error_interpolates_and_validates() -> None:
+    t = np.linspace(0, 2 * math.pi, 360, endpoint=False)
+    tab = TabulatedError(t, 0.01 * np.sin(t))
+    tt = np.array([0.123, 4.0])
+    np.testing.assert_allclose(tab(tt).v, 0.01 * np.sin(tt), atol=1e-9)
+    np.testing.assert_allclose(tab(tt).d1, 0.01 * np.cos(tt), atol=1e-7)
+    with pytest.raises(InputFileError, match="equally spaced"):
+        TabulatedError(t**1.01, np.zeros(360))
+    with pytest.raises(InputFileError, match="at least 8"):
+        TabulatedError(t[:5], np.zeros(5))
+
+
+def test_radial_error_moves_profile_along_the_radius() -> None:
+    d = cw06_translating()
+    nominal = AnalyticShape(d.mechanism, d.program)
+    err = FourierError(0.02, sin_mm=(0.005,))
+    shape = nominal.with_errors(radial_error=err)
+    t = np.linspace(0, 2 * math.pi, 37)
+    ax, ay = nominal.jets(t)
+    px, py = shape.jets(t)
+    r0, r1 = np.hypot(ax.v, ay.v), np.hypot(px.v, py.v)
+    np.testing.assert_allclose(r1 - r0, err(t).v, atol=1e-12)
+    np.testing.assert_allclose(np.arctan2(py.v, px.v), np.arctan2(ay.v, ax.v), atol=1e-14)
+
+
+def test_normal_error_moves_profile_along_the_outward_normal() -> None:
+    d = cw06_translating()
+    nominal = AnalyticShape(d.mechanism, d.program)
+    shape = nominal.with_errors(normal_error=FourierError(0.02))
+    t = np.linspace(0, 2 * math.pi, 37)
+    ax, ay = nominal.jets(t)
+    px, py = shape.jets(t)
+    # For a translating flat face the outward normal at θ is (cos(θ+φ), sin(θ+φ)).
+    psi = t + d.mechanism.face_angle_rad  # type: ignore[attr-defined]
+    np.testing.assert_allclose(px.v - ax.v, 0.02 * np.cos(psi), atol=1e-12)
+    np.testing.assert_allclose(py.v - ay.v, 0.02 * np.sin(psi), atol=1e-12)
+
+
+def test_analytic_support_is_at_least_the_sampled_polygon() -> None:
+    d = cw06_translating()
+    shape = AnalyticShape(d.mechanism, d.program, samples=720)
+    psi = np.linspace(0, 2 * math.pi, 1001)
+    exact = shape.support(psi)
+    poly = shape.polygon.support(psi)
+    assert np.all(exact.h_mm >= poly.h_mm - 1e-12)
+    # Chord sag of 0.5° sampling on radii ≥ 40 mm is below 2e-3 mm.
+    assert np.max(exact.h_mm - poly.h_mm) < 2e-3
+
+
+def test_sweep_rank_equals_searchsorted(rng: np.random.Generator) -> None:
+    from camtol.contact.shapes import sweep_rank
+
+    a = np.sort(rng.uniform(0, 10, 500))
+    a[100:110] = a[100]  # ties
+    for q in (rng.uniform(-1, 11, 999), np.roll(np.linspace(0, 10, 999), 300), a.copy()):
+        np.testing.assert_array_equal(sweep_rank(a, q), np.searchsorted(a, q, side="right"))
+
+
+def test_point_cloud_in_any_order(rng: np.random.Generator) -> None:
+    pts = star_polygon(rng, 300, 40.0, 5.0)
+    shuffled = pts[rng.permutation(300)]
+    cloud = PolygonShape.from_point_cloud(shuffled)
+    np.testing.assert_allclose(np.sort(cloud.vertices_mm, axis=0), np.sort(pts, axis=0))
+    ordered = PolygonShape(pts)
+    # Same cyclic sequence of vertices.
+    start = int(np.argmin(np.hypot(*(cloud.vertices_mm - ordered.vertices_mm[0]).T)))
+    np.testing.assert_allclose(np.roll(cloud.vertices_mm, -start, axis=0), ordered.vertices_mm)
