@@ -324,7 +324,11 @@ def parse_error_function(spec: str | float, *, field: str = "error") -> ErrorFun
     try:
         return ErrorFunction.formula(s)
     except DesignError as exc:
-        raise DesignError(f"{field}: {exc}") from None
+        raise DesignError(
+            f"{field}: {exc}; allowed: a length ('22 um', '0.022 mm'), a CSV file"
+            " (theta_deg, um) or a formula in theta [rad] or theta_deg giving µm"
+            " ('18.5 + 3.5*sin(theta)')"
+        ) from None
 
 
 # ---------------------------------------------------------------------------------------
