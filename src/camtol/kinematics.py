@@ -217,6 +217,15 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
             " ρ > 0 everywhere (a roller: a convex pitch-curve radius larger than the roller):"
             " increase the base radius or lengthen the motion"
         )
+    pivot = getattr(design.mechanism, "pivot_distance_mm", None)
+    if design.mechanism.output == "oscillating" and pivot is not None:
+        k = int(np.argmax(kin.radius_mm))
+        if kin.radius_mm[k] >= pivot:
+            raise GeometryError(
+                f"the cam reaches {kin.radius_mm[k]:.4g} mm from its centre at θ={deg[k]:.2f}°,"
+                f" at or beyond the follower pivot (pivot_distance_mm={pivot:g}): the cam would"
+                " hit the pivot; increase the pivot distance or reduce the cam"
+            )
     pa = np.abs(kin.pressure_angle_rad)
     j = int(np.argmax(pa))
     if pa[j] >= math.pi / 2:

@@ -268,3 +268,13 @@ def test_lean_sensitivities_equal_general_form(design: CamDesign) -> None:
             x = getattr(a, part) if isinstance(a, Jet) else (jet.value(a) if part == "v" else 0.0)
             y = getattr(b, part) if isinstance(b, Jet) else (jet.value(b) if part == "v" else 0.0)
             assert np.allclose(x, y, rtol=1e-9, atol=1e-12), (key, part)
+
+
+def test_cam_reaching_the_pivot_is_reported() -> None:
+    # r_b = 59.75 mm, f = 70 mm, 18° swing: the profile reaches beyond the pivot (found by
+    # hypothesis in the contact engine's round-trip test; the analytic engine must say so).
+    d = CamDesign(
+        "hits-pivot", FlatOscillating(59.75, 70.0, 4.0), _program(math.radians(18), rise=93)
+    )
+    with pytest.raises(GeometryError, match=r"reaches 7\d\.\d+ mm .* beyond the follower pivot"):
+        kinematics(d, THETA)
