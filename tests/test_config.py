@@ -155,3 +155,25 @@ def test_examples_load() -> None:
         assert load_example(name).name == name
     with pytest.raises(ConfigError, match=r"example 'nope' does not exist; available: "):
         example_text("nope")
+
+
+@pytest.mark.parametrize(("decimals", "reliable"), [(3, False), (6, True)])
+def test_lift_table_precision_is_reported(tmp_path: Path, decimals: int, reliable: bool) -> None:
+    """THEORY §1/§6.1: a table's derivatives depend on its precision; say so (Popa: 1e-3 mm
+    distorts the acceleration badly, 1e-6 mm matches theory)."""
+    import numpy as np
+
+    from camtol.analysis import analyse
+
+    design = load_example("cw06-translating")
+    t = np.arange(360.0)
+    lift = design.program.evaluate(np.radians(t)).lift
+    rows = "".join(f"{a:g},{b:.{decimals}f}\n" for a, b in zip(t, lift, strict=True))
+    (tmp_path / "lift.csv").write_text("theta_deg,lift_mm\n" + rows)
+    data = copy.deepcopy(BASE)
+    data["motion"] = {"table_file": "lift.csv"}
+    a = analyse(design_from_mapping(data, base_dir=tmp_path), step_deg=1.0)
+    assert isinstance(a.design.program, LiftTable)
+    assert a.design.program.resolution == pytest.approx(10.0**-decimals)
+    assert any(f"rounded to {10.0**-decimals:g} mm" in n for n in a.notes)
+    assert any("NOT reliable" in n for n in a.notes) is not reliable

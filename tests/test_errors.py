@@ -68,3 +68,10 @@ def test_unit_deviation_sensitivity_is_linear() -> None:
     one = error_analysis(design, [ResolvedTolerance("r", 0.019, "mm", "")], t)
     two = error_analysis(design, [ResolvedTolerance("r", 0.038, "mm", "")], t)
     assert two.sources["r"].delta_lift == pytest.approx(2 * one.sources["r"].delta_lift)
+
+
+def test_isolated_plateau_points_print_as_single_angles() -> None:
+    from camtol.extremes import Extreme
+
+    e = Extreme("x", "min", 0.0, 139.8, ((139.8, 139.8), (143.0, 168.0)))
+    assert e.where == "139.80°, 143.00-168.00°"

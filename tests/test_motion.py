@@ -173,3 +173,25 @@ def test_random_program_is_continuous_in_lift_and_velocity(
     right = p.evaluate(b)
     assert left.lift == pytest.approx(right.lift, abs=1e-9 * h)
     assert left.velocity == pytest.approx(right.velocity, abs=1e-9 * h)
+
+
+def test_table_resolution_detects_the_rounding_quantum() -> None:
+    from camtol.motion import table_resolution
+
+    x = np.linspace(0, 22, 360)
+    assert table_resolution(np.round(x, 3)) == pytest.approx(1e-3)
+    assert table_resolution(np.round(x, 6)) == pytest.approx(1e-6)
+    assert table_resolution(np.round(x)) == pytest.approx(1.0)
+    assert table_resolution(x + math.pi * 1e-7) is None  # full precision
+
+
+def test_lift_table_jerk_takes_left_limits_at_knots() -> None:
+    p = _cw06()
+    t = np.radians(np.arange(360.0))
+    table = LiftTable(t, p.evaluate(t).lift)
+    knots = np.radians([30.0, 200.0])
+    left = table.evaluate(knots, left_limit=[True, True]).jerk
+    right = table.evaluate(knots).jerk
+    inside_before = table.evaluate(knots - np.radians(0.5)).jerk
+    assert left == pytest.approx(inside_before, rel=1e-12)  # J constant on each interval
+    assert not np.allclose(left, right)  # and it jumps at the knot

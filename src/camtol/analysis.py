@@ -20,6 +20,7 @@ from camtol.errors import ErrorAnalysis, error_analysis
 from camtol.extremes import Extreme, find_extremes
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
+from camtol.motion import LiftTable
 
 __all__ = ["Analysis", "Quantity", "analyse", "max_radius_mm"]
 
@@ -64,6 +65,8 @@ class Analysis:
         Total follower travel. [mm, or deg for an oscillating follower]
     accuracy : iso286.GradeBracket
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
+    notes : tuple of str
+        What the user must know to trust the numbers (e.g. a lift table's precision).
     """
 
     design: CamDesign
@@ -77,6 +80,7 @@ class Analysis:
     max_radius_mm: float
     travel: float
     accuracy: iso286.GradeBracket
+    notes: tuple[str, ...] = ()
 
     @property
     def error_unit(self) -> str:
@@ -242,5 +246,45 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         travel = math.degrees(design.program.total_travel)
         accuracy = iso286.grade_of_angle_deviation(extremes["dS_worst"][0].value, travel)
     return Analysis(
-        design, step_deg, kin, err, tolerances, quantities, curves, extremes, rmax, travel, accuracy
+        design,
+        step_deg,
+        kin,
+        err,
+        tolerances,
+        quantities,
+        curves,
+        extremes,
+        rmax,
+        travel,
+        accuracy,
+        _notes(design, kin),
     )
+
+
+def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:
+    """Caveats on the numbers: a lift table's derivatives depend on its precision."""
+    program = design.program
+    if not isinstance(program, LiftTable):
+        return ()
+    oscillating = design.mechanism.output == "oscillating"
+    unit, scale = ("°", 180.0 / math.pi) if oscillating else (" mm", 1.0)
+    step = math.degrees(program.step_rad)
+    notes = [
+        f"the motion is a lift table every {step:g}°: V, A and J are the derivatives of a"
+        " periodic cubic spline through it and depend on the table's precision"
+        " (THEORY §1, §6.1); J jumps at every tabulated angle"
+    ]
+    bound = program.acceleration_noise_bound
+    if bound is not None and program.resolution is not None:
+        a_max = float(np.max(np.abs(kin.acceleration)))
+        notes.append(
+            f"the table is rounded to {program.resolution * scale:g}{unit}: rounding alone can"
+            f" change A by up to 2Q/Δθ² = {bound * scale:.4g}{unit}/rad² ([CDH] eq. 10.4),"
+            f" against max |A| = {a_max * scale:.4g}{unit}/rad²"
+            + (
+                "; ΔV and ΔA are NOT reliable at this precision: tabulate with more decimals"
+                if bound > 0.05 * a_max
+                else ""
+            )
+        )
+    return tuple(notes)

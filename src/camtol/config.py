@@ -55,7 +55,14 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from camtol.design import CamDesign, ToleranceSpec
 from camtol.exceptions import ConfigError, DesignError
 from camtol.mechanisms import FlatOscillating, FlatTranslating, Mechanism
-from camtol.motion import MOTION_LAWS, LiftTable, MotionProgram, Segment, SegmentProgram
+from camtol.motion import (
+    MOTION_LAWS,
+    LiftTable,
+    MotionProgram,
+    Segment,
+    SegmentProgram,
+    table_resolution,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -310,7 +317,12 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
                 f" {len(values) * m.table_step_deg:g}°; the table must cover exactly 360°"
                 " (omit the closing 360° entry)"
             )
-    return LiftTable(np.radians(theta_deg), np.asarray(lift, dtype=float) * scale)
+    q = table_resolution(lift)
+    return LiftTable(
+        np.radians(theta_deg),
+        np.asarray(lift, dtype=float) * scale,
+        resolution=None if q is None else q * scale,
+    )
 
 
 def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndarray[Any, Any]]:

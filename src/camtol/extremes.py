@@ -54,7 +54,9 @@ class Extreme:
     def where(self) -> str:
         """Human form of the location: ``63.40°`` or ``120.00-190.00°``."""
         if self.ranges_deg:
-            return ", ".join(f"{a:.2f}-{b:.2f}°" for a, b in self.ranges_deg)
+            return ", ".join(
+                f"{a:.2f}°" if b - a < 5e-3 else f"{a:.2f}-{b:.2f}°" for a, b in self.ranges_deg
+            )
         return f"{self.theta_deg:.2f}°"
 
 

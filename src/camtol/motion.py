@@ -53,6 +53,7 @@ __all__ = [
     "Segment",
     "SegmentProgram",
     "normalized_law",
+    "table_resolution",
 ]
 
 
@@ -458,6 +459,9 @@ class LiftTable(MotionProgram):
         Equally spaced angles covering one revolution, without the closing 360°. [rad]
     lift : ndarray
         Lifts at those angles. [mm, or rad for an oscillating follower]
+    resolution : float, optional
+        Rounding quantum Q of the tabulated values, in the program's unit; ``None`` when
+        the values carry full precision. See :func:`table_resolution`.
 
     Raises
     ------
@@ -467,6 +471,7 @@ class LiftTable(MotionProgram):
 
     theta_rad: FloatArray
     lift: FloatArray
+    resolution: float | None = None
 
     def __post_init__(self) -> None:
         t = np.asarray(self.theta_rad, dtype=float)
@@ -508,12 +513,61 @@ class LiftTable(MotionProgram):
         """Summarise the table."""
         return f"lift table of {self.theta_rad.size} entries every {math.degrees(self.step_rad):g}°"
 
+    @property
+    def acceleration_noise_bound(self) -> float | None:
+        """Largest change of A that rounding to :attr:`resolution` can cause (THEORY §6.1).
+
+        Alternating deviations of ±Q/2 at the tabulated points change the second
+        difference by up to 4·(Q/2)/Δθ² = 2Q/Δθ² ([CDH] eq. 10.4). ``None`` without a
+        resolution. [mm/rad², or rad/rad²]
+        """
+        if self.resolution is None:
+            return None
+        return 2.0 * self.resolution / self.step_rad**2
+
     def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
-        """Return S, V, A, J from the periodic spline (``left_limit`` is ignored)."""
+        """Return S, V, A, J from the periodic spline.
+
+        S, V and A are continuous; J is constant between tabulated angles, and a
+        ``left_limit`` row at a tabulated angle takes J of the interval that ends there.
+        """
         theta = np.asarray(theta_rad, dtype=float)
         t = np.mod(theta, TWO_PI)
         sp = self._spline
-        return MotionState(sp(t), sp(t, 1), sp(t, 2), sp(t, 3))
+        jerk = sp(t, 3)
+        if left_limit is not None:
+            left = np.broadcast_to(np.asarray(left_limit, dtype=bool), t.shape)
+            # J is piecewise constant: its left limit is its value just before the knot.
+            before = np.mod(t - 1e-6 * self.step_rad, TWO_PI)
+            jerk = np.where(left, sp(before, 3), jerk)
+        return MotionState(sp(t), sp(t, 1), sp(t, 2), jerk)
+
+
+def table_resolution(values: ArrayLike, *, max_decimals: int = 12) -> float | None:
+    """Return the rounding quantum of tabulated values: the largest 10^-k dividing all.
+
+    Parameters
+    ----------
+    values : array_like
+        Tabulated lifts as written in the file. [mm or deg]
+    max_decimals : int
+        Beyond this many decimals the values count as carrying full precision.
+
+    Returns
+    -------
+    float or None
+        Q = 10^-k, or None for full precision.
+    """
+    v = np.asarray(values, dtype=float)
+    scale = max(float(np.max(np.abs(v))), 1.0)
+    eps = np.finfo(float).eps
+    for k in range(max_decimals + 1):
+        scaled = v * 10.0**k
+        # within a millionth of the quantum, plus the values' own representation error
+        tol = 1e-6 + 16.0 * eps * scale * 10.0**k
+        if np.all(np.abs(scaled - np.round(scaled)) <= tol):
+            return 10.0**-k
+    return None
 
 
 @cache

@@ -283,6 +283,7 @@ def report_html(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
         )
+    parts += [f"<li><strong>Note:</strong> {_e(n)}</li>" for n in a.notes]
     parts.append("</ul>")
 
     parts.append("<h2>Extremes over 0-360°</h2>")

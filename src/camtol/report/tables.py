@@ -72,6 +72,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
         "max_radius_mm": a.max_radius_mm,
         "travel": {"value": a.travel, "unit": a.travel_unit},
         "accuracy": a.accuracy.describe(),
+        "notes": list(a.notes),
         "validity": {
             "min_curvature_radius_mm": float(k.curvature_radius_mm[rho_i]),
             "min_curvature_at_deg": float(np.degrees(k.theta_rad[rho_i])),
@@ -161,6 +162,8 @@ def _fmt(v: float) -> str:
     if v == 0 or not math.isfinite(v):
         return f"{v:g}"
     mag = math.floor(math.log10(abs(v)))
+    if mag < -4:  # e.g. a numerically zero error on a dwell
+        return f"{v:.3e}"
     return f"{v:.{max(0, 4 - mag)}f}" if mag < 4 else f"{v:.0f}"
 
 
@@ -220,4 +223,6 @@ def print_analysis(a: Analysis, *, console: Any = None) -> None:
         f" {_pretty_unit(a.error_unit)} over a travel of {a.travel:g}"
         f" {_pretty_unit(a.travel_unit)}: {a.accuracy.describe()}"
     )
+    for note in a.notes:
+        con.print(f"Note: {note}.", style="yellow", markup=False)
     con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim")
