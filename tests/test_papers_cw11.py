@@ -247,3 +247,14 @@ def test_cli_conjugate_plot(tmp_path: Path) -> None:
     bad = tmp_path / "fixture.gif"
     assert main(["conjugate", "-e", "cw11-conjugate", "--plot", str(bad), "-q"]) == 2
     assert not bad.exists()
+
+
+def test_analyze_terminal_shows_both_cams(capsys: pytest.CaptureFixture[str]) -> None:
+    from camtol.cli import main
+
+    assert main(["analyze", "-e", "cw11-conjugate", "--step", "0.5"]) == 0
+    out = capsys.readouterr().out
+    # THEORY §8.3: maximum radial dimensions 93.793 mm (A) and 93.859 mm (B)
+    assert "max radial dimension           93.79" in out
+    assert "cam B max radial dimension     93.859" in out
+    assert "cam B pressure angle" in out

@@ -200,6 +200,20 @@ def print_analysis(a: Analysis, *, console: Any = None) -> None:
             "contact on face u",
             f"{k.face_contact_mm.min():.3f} .. {k.face_contact_mm.max():.3f} mm (size the face)",
         )
+    if d.mechanism.kind == "conjugate":  # the rows above are cam A's; cam B's geometry here
+        from camtol.report.conjugate import conjugate_analysis_json
+
+        b = conjugate_analysis_json(a)
+        params.add_row("cam B max radial dimension", f"{b['max_radius_mm']:.4f} mm")
+        params.add_row(
+            "cam B min radius of curvature",
+            f"{b['min_curvature_radius_mm']:.4f} mm at {b['min_curvature_at_deg']:.2f}°",
+        )
+        params.add_row(
+            "cam B pressure angle",
+            "{:.3f} .. {:.3f}°".format(*b["pressure_angle_deg"]),
+        )
+        params.add_row("cam B shift angle", "{:.3f} .. {:.3f}°".format(*b["shift_angle_deg"]))
     if d.speed_rpm is not None:
         params.add_row("cam speed", f"{d.speed_rpm:g} rpm")
     for t in a.tolerances:
