@@ -181,3 +181,18 @@ def test_outputs_get_ordinary_permissions(tmp_path: Path) -> None:
         assert [p.name for p in tmp_path.iterdir()] == ["c.csv"]  # no temporary left
     finally:
         os.umask(umask)
+
+
+def test_pressure_angle_limit_warns_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from camtol.config import example_text
+
+    text = example_text("roller-translating").replace(
+        "pressure_angle_limit_deg = 30", "pressure_angle_limit_deg = 10"
+    )
+    design = _write(tmp_path, text)
+    assert main(["analyze", str(design), "-q"]) == 0  # a warning, not an error
+    err = capsys.readouterr().err
+    assert err.count("camtol: warning: pressure angle reaches") == 1
+    assert "beyond the design limit 10°" in err

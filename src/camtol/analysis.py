@@ -109,6 +109,19 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = 0.01) -> float:
     """Maximum radial dimension |O2A| of the theoretical profile (THEORY §3.6). [mm]
 
     Sampled every ``step_deg`` and refined on a fine grid around the best sample.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    step_deg : float
+        Sampling step of the first pass; the refinement spans ±``step_deg`` around the
+        largest sample. [deg]
+
+    Returns
+    -------
+    float
+        Largest radial dimension of the profile. [mm]
     """
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     kin = kinematics(design, theta, left_limit=left, check=False)
@@ -229,7 +242,7 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     kinematics(design, theta, left_limit=left, check=True)
     rmax = max_radius_mm(design)
     tolerances = design.resolve_tolerances(rmax)
-    kin, err, curves = _evaluate(design, tolerances, theta, left)
+    kin, err, curves = _evaluate(design, tolerances, theta, left, check=False)  # checked above
     quantities = _quantities(design, tolerances)
     keys = [q.key for q in quantities]
 

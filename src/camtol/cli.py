@@ -44,7 +44,20 @@ def fail(message: str, code: int = EXIT_USAGE) -> None:
 
 
 def load_input(design: str | None, example: str | None) -> Any:
-    """Load a design from a path or a built-in example name (exactly one of them)."""
+    """Load a design from a path or a built-in example name (exactly one of them).
+
+    Parameters
+    ----------
+    design : str or None
+        Path of a design file (TOML), or None when ``example`` is given.
+    example : str or None
+        Name of a built-in example, or None when ``design`` is given.
+
+    Returns
+    -------
+    CamDesign
+        The loaded design. Giving both or neither ends the command with a usage error.
+    """
     from camtol.config import load_design, load_example
 
     if (design is None) == (example is None):
@@ -64,7 +77,20 @@ def check_output_path(path: str | None, option: str, suffixes: Sequence[str]) ->
 
 
 def run_guarded(fn: Callable[[], int | None]) -> int:
-    """Run a command body; camtol errors become one stderr line and exit status 2."""
+    """Run a command body; camtol errors become one stderr line and exit status 2.
+
+    Warnings raised by ``fn`` are printed to stderr as ``camtol: warning:`` lines.
+
+    Parameters
+    ----------
+    fn : callable
+        Command body without arguments, returning an exit status or None (success).
+
+    Returns
+    -------
+    int
+        Exit status: that of ``fn``, 0 when it returned None, 2 on a camtol error.
+    """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -73,8 +99,8 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
             click.echo(f"camtol: error: {exc}", err=True)
             code = EXIT_USAGE
         finally:
-            for w in caught:
-                click.echo(f"camtol: warning: {w.message}", err=True)
+            for message in dict.fromkeys(str(w.message) for w in caught):  # once each
+                click.echo(f"camtol: warning: {message}", err=True)
     return EXIT_OK if code is None else code
 
 
@@ -201,7 +227,18 @@ _register_subcommands()
 
 
 def main(args: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit status (0 ok, 1 out of tolerance, 2 usage)."""
+    """Run the command line; return the exit status (0 ok, 1 out of tolerance, 2 usage).
+
+    Parameters
+    ----------
+    args : sequence of str, optional
+        Command-line arguments without the program name; by default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status.
+    """
     try:
         cli.main(args=list(args) if args is not None else None, standalone_mode=False)
     except _Exit as e:
