@@ -445,6 +445,16 @@ def _parse_toml(text: str, source: str) -> dict[str, Any]:
 def load_design(path: str | Path) -> CamDesign:
     """Read a design file (TOML).
 
+    Parameters
+    ----------
+    path : str or Path
+        Design file; relative paths inside it are resolved against its directory.
+
+    Returns
+    -------
+    CamDesign
+        The validated design.
+
     Raises
     ------
     ConfigError
@@ -472,6 +482,16 @@ def example_names() -> list[str]:
 def example_text(name: str) -> str:
     """TOML text of a built-in example.
 
+    Parameters
+    ----------
+    name : str
+        Example name, one of :func:`example_names`.
+
+    Returns
+    -------
+    str
+        The example's design file.
+
     Raises
     ------
     ConfigError
@@ -485,7 +505,23 @@ def example_text(name: str) -> str:
 
 
 def load_example(name: str) -> CamDesign:
-    """Load a built-in example design by name (see :func:`example_names`)."""
+    """Load a built-in example design by name (see :func:`example_names`).
+
+    Parameters
+    ----------
+    name : str
+        Example name, one of :func:`example_names`.
+
+    Returns
+    -------
+    CamDesign
+        The validated design.
+
+    Raises
+    ------
+    ConfigError
+        If there is no such example.
+    """
     return design_from_mapping(_parse_toml(example_text(name), f"example {name!r}"))
 
 

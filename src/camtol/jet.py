@@ -62,13 +62,37 @@ class Jet:
 
     @classmethod
     def variable(cls, theta_rad: FloatArray) -> Jet:
-        """Return the independent variable θ itself (θ' = 1, θ'' = 0)."""
+        """Return the independent variable θ itself (θ' = 1, θ'' = 0).
+
+        Parameters
+        ----------
+        theta_rad : ndarray
+            Cam angles θ. [rad]
+
+        Returns
+        -------
+        Jet
+            The jet (θ, 1, 0). [rad, dimensionless, 1/rad]
+        """
         t = np.asarray(theta_rad, dtype=float)
         return cls(t, np.ones_like(t), np.zeros_like(t))
 
     @classmethod
     def constant(cls, c: Real, like: FloatArray) -> Jet:
-        """Return a constant broadcast to the shape of ``like``."""
+        """Return a constant broadcast to the shape of ``like``.
+
+        Parameters
+        ----------
+        c : float or ndarray
+            Constant value, broadcastable to the shape of ``like``. [unit of c]
+        like : ndarray
+            Array whose shape the jet takes; its values are not used.
+
+        Returns
+        -------
+        Jet
+            The jet (c, 0, 0).
+        """
         v = np.broadcast_to(np.asarray(c, dtype=float), np.shape(like)).astype(float)
         return cls(v, np.zeros_like(v), np.zeros_like(v))
 
@@ -135,12 +159,34 @@ JetLike = Union[Jet, Real]
 
 
 def value(x: JetLike) -> FloatArray:
-    """Return the value part of a jet, or the array itself."""
+    """Return the value part of a jet, or the array itself.
+
+    Parameters
+    ----------
+    x : JetLike
+        A jet, or a plain float or array. [any unit]
+
+    Returns
+    -------
+    ndarray
+        ``x.v`` for a jet, otherwise ``x`` as a float array. [unit of x]
+    """
     return x.v if isinstance(x, Jet) else np.asarray(x, dtype=float)
 
 
 def sin(x: JetLike) -> JetLike:
-    """Sine, for arrays or jets."""
+    """Sine, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Angle, as an array or a jet. [rad]
+
+    Returns
+    -------
+    JetLike
+        sin x, a jet when ``x`` is one. [dimensionless]
+    """
     if isinstance(x, Jet):
         s, c = np.sin(x.v), np.cos(x.v)
         return x._chain(s, c, -s)
@@ -148,7 +194,18 @@ def sin(x: JetLike) -> JetLike:
 
 
 def cos(x: JetLike) -> JetLike:
-    """Cosine, for arrays or jets."""
+    """Cosine, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Angle, as an array or a jet. [rad]
+
+    Returns
+    -------
+    JetLike
+        cos x, a jet when ``x`` is one. [dimensionless]
+    """
     if isinstance(x, Jet):
         s, c = np.sin(x.v), np.cos(x.v)
         return x._chain(c, -s, -c)
@@ -156,7 +213,18 @@ def cos(x: JetLike) -> JetLike:
 
 
 def tan(x: JetLike) -> JetLike:
-    """Tangent, for arrays or jets."""
+    """Tangent, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Angle, as an array or a jet. [rad]
+
+    Returns
+    -------
+    JetLike
+        tan x, a jet when ``x`` is one. [dimensionless]
+    """
     if isinstance(x, Jet):
         t = np.tan(x.v)
         sec2 = 1.0 + t * t
@@ -165,7 +233,18 @@ def tan(x: JetLike) -> JetLike:
 
 
 def sqrt(x: JetLike) -> JetLike:
-    """Square root, for arrays or jets."""
+    """Square root, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Non-negative radicand, as an array or a jet. [unit of x]
+
+    Returns
+    -------
+    JetLike
+        √x, a jet when ``x`` is one; NaN where x < 0. [√(unit of x)]
+    """
     if isinstance(x, Jet):
         r = np.sqrt(x.v)
         return x._chain(r, 0.5 / r, -0.25 / (r * x.v))
@@ -173,7 +252,18 @@ def sqrt(x: JetLike) -> JetLike:
 
 
 def arcsin(x: JetLike) -> JetLike:
-    """Inverse sine, for arrays or jets."""
+    """Inverse sine, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Sine value in [-1, 1], as an array or a jet. [dimensionless]
+
+    Returns
+    -------
+    JetLike
+        arcsin x in [-π/2, π/2], a jet when ``x`` is one; NaN outside [-1, 1]. [rad]
+    """
     if isinstance(x, Jet):
         w = 1.0 / np.sqrt(1.0 - x.v * x.v)
         return x._chain(np.arcsin(x.v), w, x.v * w**3)
@@ -181,7 +271,18 @@ def arcsin(x: JetLike) -> JetLike:
 
 
 def arccos(x: JetLike) -> JetLike:
-    """Inverse cosine, for arrays or jets."""
+    """Inverse cosine, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Cosine value in [-1, 1], as an array or a jet. [dimensionless]
+
+    Returns
+    -------
+    JetLike
+        arccos x in [0, π], a jet when ``x`` is one; NaN outside [-1, 1]. [rad]
+    """
     if isinstance(x, Jet):
         w = 1.0 / np.sqrt(1.0 - x.v * x.v)
         return x._chain(np.arccos(x.v), -w, -x.v * w**3)
@@ -189,7 +290,18 @@ def arccos(x: JetLike) -> JetLike:
 
 
 def arctan(x: JetLike) -> JetLike:
-    """Inverse tangent, for arrays or jets."""
+    """Inverse tangent, for arrays or jets.
+
+    Parameters
+    ----------
+    x : JetLike
+        Tangent value, as an array or a jet. [dimensionless]
+
+    Returns
+    -------
+    JetLike
+        arctan x in (-π/2, π/2), a jet when ``x`` is one. [rad]
+    """
     if isinstance(x, Jet):
         w = 1.0 / (1.0 + x.v * x.v)
         return x._chain(np.arctan(x.v), w, -2.0 * x.v * w * w)
@@ -197,7 +309,20 @@ def arctan(x: JetLike) -> JetLike:
 
 
 def arctan2(y: JetLike, x: JetLike) -> JetLike:
-    """Four-quadrant inverse tangent of y/x, for arrays or jets."""
+    """Four-quadrant inverse tangent of y/x, for arrays or jets.
+
+    Parameters
+    ----------
+    y : JetLike
+        Ordinate, as an array or a jet. [same unit as x]
+    x : JetLike
+        Abscissa, as an array or a jet. [same unit as y]
+
+    Returns
+    -------
+    JetLike
+        Angle of the point (x, y) in [-π, π], a jet when either input is one. [rad]
+    """
     if not isinstance(y, Jet) and not isinstance(x, Jet):
         return np.arctan2(y, x)
     yj = y if isinstance(y, Jet) else Jet.constant(y, value(x))
@@ -215,7 +340,18 @@ def arctan2(y: JetLike, x: JetLike) -> JetLike:
 
 
 def hypot(x: JetLike, y: JetLike) -> JetLike:
-    """Euclidean norm sqrt(x² + y²), for arrays or jets."""
+    """Euclidean norm sqrt(x² + y²), for arrays or jets.
+
+    Parameters
+    ----------
+    x, y : JetLike
+        Components, as arrays or jets. [same unit for both]
+
+    Returns
+    -------
+    JetLike
+        √(x² + y²), a jet when either input is one. [unit of x and y]
+    """
     if not isinstance(x, Jet) and not isinstance(y, Jet):
         return np.hypot(x, y)
     return sqrt(x * x + y * y)

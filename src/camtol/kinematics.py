@@ -107,12 +107,44 @@ def analysis_grid(
 
 
 def to_jet(x: FloatArray, d1: FloatArray, d2: FloatArray) -> Jet:
-    """Build a jet from a value and its exact derivatives."""
+    """Build a jet from a value and its exact derivatives.
+
+    Parameters
+    ----------
+    x : ndarray
+        Value f(θ). [unit of f]
+    d1 : ndarray
+        First derivative df/dθ. [unit of f / rad]
+    d2 : ndarray
+        Second derivative d²f/dθ². [unit of f / rad²]
+
+    Returns
+    -------
+    Jet
+        The jet (f, f', f'') as float arrays.
+    """
     return Jet(np.asarray(x, float), np.asarray(d1, float), np.asarray(d2, float))
 
 
 def contact_jets(design: CamDesign, theta_rad: FloatArray, motion: MotionState) -> ContactGeometry:
-    """Contact geometry of the design as jets in θ (exact first and second derivatives)."""
+    """Contact geometry of the design as jets in θ (exact first and second derivatives).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design whose mechanism is evaluated.
+    theta_rad : ndarray
+        Cam angles. [rad]
+    motion : MotionState
+        S, V, A, J of the design's program at ``theta_rad``; S is seeded as the jet
+        (S, V, A) and V as (V, A, J). [mm, or rad for an oscillating follower, per rad^k]
+
+    Returns
+    -------
+    ContactGeometry
+        The mechanism's contact geometry with every field a :class:`~camtol.jet.Jet`
+        in θ. [mm, rad]
+    """
     theta = Jet.variable(theta_rad)
     lift = to_jet(motion.lift, motion.velocity, motion.acceleration)
     vel = to_jet(motion.velocity, motion.acceleration, motion.jerk)

@@ -278,7 +278,23 @@ class MotionProgram:
     """Interface of a motion program: S, V, A, J over the θ grid."""
 
     def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
-        """Return S, V, A, J at the cam angles (left limits where ``left_limit``)."""
+        """Return S, V, A, J at the cam angles (left limits where ``left_limit``).
+
+        Parameters
+        ----------
+        theta_rad : array_like
+            Cam angles; any real values (the program is periodic). [rad]
+        left_limit : array_like of bool, optional
+            Where True, an angle lying on a boundary of :attr:`boundaries_rad` takes the
+            limit from below (the segment or interval that ends there) instead of from
+            above. Broadcast against ``theta_rad``; None means right limits everywhere.
+
+        Returns
+        -------
+        MotionState
+            S, V, A, J as arrays of the shape of ``theta_rad``. [mm, or rad for an
+            oscillating follower, per rad^k]
+        """
         raise NotImplementedError
 
     @property
@@ -292,7 +308,22 @@ class MotionProgram:
         raise NotImplementedError
 
     def describe(self, *, unit: str = "", scale: float = 1.0) -> str:
-        """One-line human summary; heights scaled by ``scale`` and shown in ``unit``."""
+        """One-line human summary; heights scaled by ``scale`` and shown in ``unit``.
+
+        Parameters
+        ----------
+        unit : str
+            Unit label appended to each height, including any leading space, e.g.
+            ``" mm"`` or ``"°"``.
+        scale : float
+            Factor from the internal unit of S to ``unit``, e.g. 180/π to show radians in
+            degrees. [unit per mm, or unit per rad]
+
+        Returns
+        -------
+        str
+            The summary.
+        """
         raise NotImplementedError
 
 
@@ -387,6 +418,22 @@ class SegmentProgram(MotionProgram):
         """Index of the segment each angle belongs to (the one starting there, or ending).
 
         ``wrapped=True`` says the angles are already mapped into the program's revolution.
+
+        Parameters
+        ----------
+        theta_rad : array_like
+            Cam angles; any real values unless ``wrapped``. [rad]
+        left_limit : array_like of bool, optional
+            Where True, an angle on a segment boundary belongs to the segment that ends
+            there instead of the one that starts there.
+        wrapped : bool
+            Flag: the angles already lie in the revolution that starts at the first
+            segment's start angle, so they are not wrapped again.
+
+        Returns
+        -------
+        ndarray of intp
+            Index into :attr:`segments`, of the shape of ``theta_rad``.
         """
         t = np.asarray(theta_rad, dtype=float) if wrapped else self._wrap(theta_rad)
         idx = np.searchsorted(self._starts, t, side="right") - 1

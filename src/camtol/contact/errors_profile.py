@@ -77,7 +77,18 @@ class FourierError:
         return Jet(v, d1, d2)
 
     def scaled(self, factor: float) -> FourierError:
-        """Return the same error multiplied by ``factor``."""
+        """Return the same error multiplied by ``factor``.
+
+        Parameters
+        ----------
+        factor : float
+            Scale applied to the mean and every harmonic. [dimensionless]
+
+        Returns
+        -------
+        FourierError
+            The scaled error.
+        """
         return FourierError(
             self.mean_mm * factor,
             tuple(a * factor for a in self.cos_mm),

@@ -82,7 +82,21 @@ class Fixture:
 
     @classmethod
     def of(cls, pair: ConjugatePair, errors: FixtureErrors | None = None) -> Fixture:
-        """Return the fixture of a pair, optionally with constant errors (THEORY §4.1)."""
+        """Return the fixture of a pair, optionally with constant errors (THEORY §4.1).
+
+        Parameters
+        ----------
+        pair : ConjugatePair
+            The nominal conjugate pair whose follower dimensions the fixture takes.
+        errors : FixtureErrors, optional
+            Constant errors of the arm lengths, roller radii [mm] and arm angle [rad],
+            added to the nominal dimensions; None for an ideal fixture.
+
+        Returns
+        -------
+        Fixture
+            The fixture's dimensions. [mm, rad]
+        """
         dl_a = dl_b = drc = drd = deta = 0.0
         if errors is not None:
             dl_a, dl_b = errors.dl_a_mm, errors.dl_b_mm

@@ -83,7 +83,21 @@ class RollerPath:
     side: int = -1
 
     def centre(self, theta: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Roller centre C(θ, x). [mm]"""
+        """Roller centre C(θ, x). [mm]
+
+        Parameters
+        ----------
+        theta : ndarray
+            Cam angles θ. [rad]
+        x : ndarray
+            Path coordinate, broadcasting with ``theta``: axial position y (line) [mm] or
+            arm angle γ (circle) [rad].
+
+        Returns
+        -------
+        cx, cy : ndarray
+            Roller centre in the cam frame. [mm]
+        """
         ct, st = np.cos(theta), np.sin(theta)
         if self.kind == "line":
             return -self.offset_mm * st + x * ct, self.offset_mm * ct + x * st
@@ -96,7 +110,22 @@ class RollerPath:
     def partials(
         self, theta: FloatArray, x: FloatArray
     ) -> tuple[tuple[FloatArray, FloatArray], ...]:
-        """(C_θ, C_x, C_θθ, C_θx, C_xx), each as an (x, y) pair. [mm per unit^k]"""
+        """(C_θ, C_x, C_θθ, C_θx, C_xx), each as an (x, y) pair. [mm per unit^k]
+
+        Parameters
+        ----------
+        theta : ndarray
+            Cam angles θ. [rad]
+        x : ndarray
+            Path coordinate, broadcasting with ``theta``: axial position y (line) [mm] or
+            arm angle γ (circle) [rad].
+
+        Returns
+        -------
+        tuple of (ndarray, ndarray)
+            The five partial derivatives of C, in the order above. [mm per rad or mm per
+            unit of x, to the order of the derivative]
+        """
         ct, st = np.cos(theta), np.sin(theta)
         z = np.zeros_like(theta)
         if self.kind == "line":
@@ -123,7 +152,23 @@ class RollerPath:
     def circle_roots(
         self, theta: FloatArray, cx: FloatArray, cy: FloatArray, d: FloatArray
     ) -> tuple[FloatArray, FloatArray]:
-        """Both x where |C(θ, x) − c| = d (NaN where none); broadcasting (N,1) × (1,K)."""
+        """Both x where |C(θ, x) − c| = d (NaN where none); broadcasting (N,1) × (1,K).
+
+        Parameters
+        ----------
+        theta : ndarray
+            Cam angles θ, e.g. of shape (N, 1). [rad]
+        cx, cy : ndarray
+            Centre c of the circle in the cam frame, e.g. of shape (1, K). [mm]
+        d : ndarray
+            Required distance between C and c. [mm]
+
+        Returns
+        -------
+        x1, x2 : ndarray
+            The two roots, broadcast shape of the inputs; NaN where the path misses the
+            circle. [mm for a line path, rad for a circle path]
+        """
         ct, st = np.cos(theta), np.sin(theta)
         if self.kind == "line":
             p = cx * ct + cy * st
@@ -142,7 +187,23 @@ class RollerPath:
     def line_roots(
         self, theta: FloatArray, nx: FloatArray, ny: FloatArray, k: FloatArray
     ) -> tuple[FloatArray, FloatArray]:
-        """Return x where n·C(θ, x) = k (NaN where none; a line path gives one root twice)."""
+        """Return x where n·C(θ, x) = k (NaN where none; a line path gives one root twice).
+
+        Parameters
+        ----------
+        theta : ndarray
+            Cam angles θ. [rad]
+        nx, ny : ndarray
+            Unit normal n of the line in the cam frame. [dimensionless]
+        k : ndarray
+            Signed distance of the line from O2 along n. [mm]
+
+        Returns
+        -------
+        x1, x2 : ndarray
+            The two roots, broadcast shape of the inputs; NaN where there is none.
+            [mm for a line path, rad for a circle path]
+        """
         ct, st = np.cos(theta), np.sin(theta)
         if self.kind == "line":
             den = nx * ct + ny * st
@@ -165,6 +226,12 @@ class RollerPath:
 
 def roller_path(follower: Mechanism) -> tuple[RollerPath, float, float, float]:
     """Return the roller path of a mechanism and how its coordinate x maps to the output.
+
+    Parameters
+    ----------
+    follower : Mechanism
+        A roller follower: translating, oscillating, conjugate cam B, or a conjugate pair
+        (which stands for its cam A).
 
     Returns
     -------

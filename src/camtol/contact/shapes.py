@@ -417,7 +417,20 @@ class AnalyticShape:
         radial_error: ProfileError | None = None,
         normal_error: ProfileError | None = None,
     ) -> AnalyticShape:
-        """Return the same profile with other error functions."""
+        """Return the same profile with other error functions.
+
+        Parameters
+        ----------
+        radial_error : ProfileError, optional
+            Δr(t) along O2A, replacing the current one; None for none. [mm]
+        normal_error : ProfileError, optional
+            Δn(t) along the outward normal, replacing the current one; None for none. [mm]
+
+        Returns
+        -------
+        AnalyticShape
+            Same mechanism, program and samples with the new errors.
+        """
         return AnalyticShape(self.mechanism, self.program, radial_error, normal_error, self.samples)
 
     def jets(self, t_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> tuple[Jet, Jet]:
@@ -471,7 +484,18 @@ class AnalyticShape:
         return PolygonShape(pts)
 
     def vertex_param(self, feature: IntArray) -> FloatArray:
-        """Profile parameter of a vertex of :attr:`polygon`. [rad]"""
+        """Profile parameter of a vertex of :attr:`polygon`. [rad]
+
+        Parameters
+        ----------
+        feature : ndarray of int
+            Vertex indices into :attr:`polygon`, taken modulo its size.
+
+        Returns
+        -------
+        ndarray
+            Profile parameter t of each vertex. [rad]
+        """
         poly = self.polygon
         # The polygon may have been reversed on input; map back through the coordinates.
         return self._vertex_param_map[np.asarray(feature) % poly.size]
@@ -495,7 +519,18 @@ class AnalyticShape:
         return np.asarray(self.program.boundaries_rad, dtype=float)
 
     def snap(self, t_rad: FloatArray) -> FloatArray:
-        """Wrap t to [0, 2π) and snap values within 1e-9 rad of a boundary onto it. [rad]"""
+        """Wrap t to [0, 2π) and snap values within 1e-9 rad of a boundary onto it. [rad]
+
+        Parameters
+        ----------
+        t_rad : ndarray
+            Profile parameters, 1-D. [rad]
+
+        Returns
+        -------
+        ndarray
+            The wrapped and snapped parameters. [rad]
+        """
         t = np.mod(t_rad, TWO_PI)
         b = np.append(self.boundaries_rad, TWO_PI)
         if b.size:
@@ -551,7 +586,31 @@ class AnalyticShape:
         left_limit: ArrayLike | None = None,
         check_h: FloatArray | None = None,
     ) -> Support:
-        """Support record of the profile point P(t) seen in direction ψ."""
+        """Support record of the profile point P(t) seen in direction ψ.
+
+        Parameters
+        ----------
+        psi : ndarray
+            Directions ψ of the outward normal n(ψ) = (cos ψ, sin ψ). [rad]
+        t : ndarray
+            Profile parameter of the supporting point for each direction; wrapped and
+            snapped with :meth:`snap`. [rad]
+        left_limit : array_like of bool, optional
+            Take left limits of the motion program where t lies on a boundary.
+        check_h : ndarray, optional
+            Lower bound on h (e.g. the sampled polygon's); raise if h falls below it.
+            [mm]
+
+        Returns
+        -------
+        Support
+            Support value h, contact point and centre of curvature at P(t). [mm]
+
+        Raises
+        ------
+        GeometryError
+            If h is less than ``check_h`` (the point is not the global support point).
+        """
         t = self.snap(t)
         px, py = self.jets(t, left_limit=left_limit)
         nx, ny = np.cos(psi), np.sin(psi)

@@ -227,6 +227,17 @@ class ErrorFunction:
     def from_csv(cls, path: str | Path) -> ErrorFunction:
         """Read a CSV table of ``theta_deg`` and µm (first two columns; header optional).
 
+        Parameters
+        ----------
+        path : str or Path
+            CSV file: angle [deg] and error [µm] per row; blank lines and lines starting
+            with ``#`` are skipped.
+
+        Returns
+        -------
+        ErrorFunction
+            The tabulated error function.
+
         Raises
         ------
         InputFileError
@@ -279,6 +290,18 @@ _UNITS_UM = {"um": 1.0, "µm": 1.0, "μm": 1.0, "mm": 1e3, "": 1.0}
 
 def parse_length_um(text: str | float, *, field: str = "value") -> float:
     """Parse a length with an optional unit (``"22 um"``, ``"0.022mm"``, ``22``) into µm.
+
+    Parameters
+    ----------
+    text : str or float
+        A number followed by ``um``, ``µm`` or ``mm``, or a plain number (taken as µm).
+    field : str
+        Name of the input field, used in error messages.
+
+    Returns
+    -------
+    float
+        The length. [µm]
 
     Raises
     ------

@@ -108,11 +108,44 @@ class Mechanism(ABC):
 
     @abstractmethod
     def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
-        """Contact geometry (THEORY §2) for cam angle, lift S and V = dS/dθ."""
+        """Contact geometry (THEORY §2) for cam angle, lift S and V = dS/dθ.
+
+        Parameters
+        ----------
+        theta : JetLike
+            Cam angle θ, as an array or as the jet ``Jet.variable(θ)``
+            (:meth:`camtol.jet.Jet.variable`) for exact θ-derivatives. [rad]
+        lift : JetLike
+            Follower output S(θ), broadcastable with ``theta``; a jet (S, V, A) for exact
+            derivatives. [mm, or rad for an oscillating follower]
+        velocity : JetLike
+            Kinematic velocity V = dS/dθ; a jet (V, A, J) for exact derivatives.
+            [mm/rad, or rad/rad for an oscillating follower]
+
+        Returns
+        -------
+        ContactGeometry
+            Contact point, instant centre, pressure and shift angles, plus the
+            mechanism's ``extras``; jets where the inputs are jets. [mm, rad]
+        """
 
     @abstractmethod
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
-        """ΔS per unit deviation of each source (THEORY §3), keyed by source key."""
+        """ΔS per unit deviation of each source (THEORY §3), keyed by source key.
+
+        Parameters
+        ----------
+        geometry : ContactGeometry
+            Contact geometry from :meth:`contact` at the same angles. [mm, rad]
+        theta : JetLike
+            Cam angle θ, the same array or jet that was given to :meth:`contact`. [rad]
+
+        Returns
+        -------
+        dict of str to JetLike
+            ∂S/∂p for every key of :attr:`sources`, jets where ``geometry`` holds jets.
+            [unit of S per unit of the source: mm/mm, mm/rad, rad/mm or rad/rad]
+        """
 
     def error_sensitivities(
         self, theta: JetLike, lift: JetLike, velocity: JetLike
@@ -121,6 +154,23 @@ class Mechanism(ABC):
 
         The default goes through :meth:`contact`; a mechanism may override it with a
         leaner closed form that must agree with the default (tested).
+
+        Parameters
+        ----------
+        theta : JetLike
+            Cam angle θ, as an array or a jet. [rad]
+        lift : JetLike
+            Follower output S(θ), as an array or a jet. [mm, or rad for an oscillating
+            follower]
+        velocity : JetLike
+            Kinematic velocity V = dS/dθ, as an array or a jet. [mm/rad, or rad/rad for an
+            oscillating follower]
+
+        Returns
+        -------
+        dict of str to JetLike
+            Same as :meth:`sensitivities` of :meth:`contact`: ∂S/∂p for every key of
+            :attr:`sources`. [unit of S per unit of the source]
         """
         return self.sensitivities(self.contact(theta, lift, velocity), theta)
 
@@ -132,13 +182,50 @@ class Mechanism(ABC):
         velocity: FloatArray,
         acceleration: FloatArray,
     ) -> FloatArray:
-        """Radius of curvature ρ of the cam profile at the contact point (> 0 convex). [mm]"""
+        """Radius of curvature ρ of the cam profile at the contact point (> 0 convex). [mm]
+
+        Parameters
+        ----------
+        theta_rad : ndarray
+            Cam angles θ. [rad]
+        lift : ndarray
+            Follower output S(θ). [mm, or rad for an oscillating follower]
+        velocity : ndarray
+            Kinematic velocity V = dS/dθ. [mm/rad, or rad/rad for an oscillating follower]
+        acceleration : ndarray
+            Kinematic acceleration A = d²S/dθ². [mm/rad², or rad/rad² for an oscillating
+            follower]
+
+        Returns
+        -------
+        ndarray
+            Signed radius of curvature ρ of the profile at the contact point, > 0 where the
+            profile is convex, < 0 where concave. [mm]
+        """
 
     @abstractmethod
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """Nominal size used to look up an IT grade for a source (THEORY §3.6).
 
         Lengths in mm; angles in degrees (the papers' angle convention).
+
+        Parameters
+        ----------
+        key : str
+            Error-source key, one of the keys of :attr:`sources`.
+        max_radius_mm : float
+            Maximum radial dimension of the cam profile, the nominal size of profile
+            tolerances. [mm]
+
+        Returns
+        -------
+        float
+            Nominal size for the ISO 286 look-up. [mm for lengths, deg for angles]
+
+        Raises
+        ------
+        KeyError
+            If the mechanism has no source ``key``.
         """
 
     @abstractmethod
@@ -156,6 +243,12 @@ class Mechanism(ABC):
         ----------
         curvature_radius_mm : ndarray
             Signed profile radius of curvature from :meth:`curvature_radius`. [mm]
+
+        Returns
+        -------
+        ndarray of bool
+            True where the follower cannot generate the profile; same shape as
+            ``curvature_radius_mm``.
         """
         return np.asarray(np.asarray(curvature_radius_mm) <= 0.0)
 
@@ -166,6 +259,16 @@ class Mechanism(ABC):
 
     def source(self, key: str) -> ErrorSource:
         """Return the error source with this key.
+
+        Parameters
+        ----------
+        key : str
+            Error-source key as in the design file's tolerances, e.g. ``"r"``.
+
+        Returns
+        -------
+        ErrorSource
+            The source with that key.
 
         Raises
         ------

@@ -94,7 +94,18 @@ class ConjugateCamB(Mechanism):
     side: ClassVar[int] = 1
 
     def arm_angle(self, lift: JetLike) -> JetLike:
-        """γ_B = η − ξ = η − ξ0 − S. [rad]"""
+        """γ_B = η − ξ = η − ξ0 − S. [rad]
+
+        Parameters
+        ----------
+        lift : JetLike
+            Follower output S = ξ − ξ0, as an array or a jet. [rad]
+
+        Returns
+        -------
+        JetLike
+            Angle γ_B of arm O3D, a jet when ``lift`` is one. [rad]
+        """
         return (self.arm_angle_rad - self.initial_angle_rad) - lift
 
     def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:

@@ -139,7 +139,21 @@ class RollerTranslating(Mechanism):
         return math.sqrt(self.prime_radius_mm**2 - self.offset_mm**2)
 
     def pitch_point(self, theta: JetLike, lift: JetLike) -> tuple[JetLike, JetLike]:
-        """Roller centre C = e·w + (s0 + S)·t in the cam frame (THEORY §2.3). [mm]"""
+        """Roller centre C = e·w + (s0 + S)·t in the cam frame (THEORY §2.3). [mm]
+
+        Parameters
+        ----------
+        theta : JetLike
+            Cam angle θ, as an array or a jet. [rad]
+        lift : JetLike
+            Follower lift S(θ), as an array or a jet. [mm]
+
+        Returns
+        -------
+        cx, cy : JetLike
+            Coordinates of the roller centre C in the cam frame, jets where the inputs
+            are jets. [mm]
+        """
         c, s = jet.cos(theta), jet.sin(theta)
         axial = self.s0_mm + lift
         return -self.offset_mm * s + axial * c, self.offset_mm * c + axial * s

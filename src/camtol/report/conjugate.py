@@ -41,6 +41,19 @@ def conjugate_profile_columns(
     The single-contact columns (cam A) are kept; ``x_mm, y_mm`` become ``xA_mm, yA_mm``
     and cam B's ``xB_mm, yB_mm``, radius, pressure and shift angles and radius of
     curvature follow (suffix ``_A``/``_B``).
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+    cols : dict of str to ndarray
+        Single-contact columns from :func:`camtol.report.tables.curves_columns`, keyed by
+        CSV column name (units in the names).
+
+    Returns
+    -------
+    dict of str to ndarray
+        The columns with the cam A/B renaming and cam B's columns added, in CSV order.
     """
     k = a.kinematics
     kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
@@ -67,7 +80,19 @@ def conjugate_profile_columns(
 
 
 def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
-    """Cam B's validity figures for the JSON of ``camtol analyze`` on a conjugate design."""
+    """Cam B's validity figures for the JSON of ``camtol analyze`` on a conjugate design.
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+
+    Returns
+    -------
+    dict
+        Cam B's largest radius and smallest radius of curvature [mm], where it occurs, and
+        the ranges of its pressure and shift angles [deg].
+    """
     k = a.kinematics
     kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
     i = int(np.argmin(kb.curvature_radius_mm))
@@ -87,7 +112,19 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
 
 
 def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
-    """Every fixture curve on the grid, keyed by CSV column name (µm, degrees)."""
+    """Every fixture curve on the grid, keyed by CSV column name (µm, degrees).
+
+    Parameters
+    ----------
+    res : FixtureInspection
+        Result of the conjugate-cam fixture analysis (THEORY §4).
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``theta_deg`` [deg] then the variation, estimate and band curves [µm]; estimate
+        columns are NaN when the inspection has no measurement.
+    """
     v, b = res.variation, res.bands
     nan = np.full(res.theta_rad.shape, np.nan)
     est = res.estimate
@@ -113,7 +150,15 @@ def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
 
 
 def write_fixture_curves_csv(res: FixtureInspection, path: str | Path) -> None:
-    """Write one row per grid angle (atomically)."""
+    """Write one row per grid angle (atomically).
+
+    Parameters
+    ----------
+    res : FixtureInspection
+        Result of the conjugate-cam fixture analysis (THEORY §4).
+    path : str or Path
+        CSV file to write; replaced if it exists.
+    """
     from camtol.report.tables import atomic_write_text
 
     cols = fixture_curves_columns(res)
@@ -137,7 +182,22 @@ def _extreme(mx: Extreme, mn: Extreme) -> dict[str, Any]:
 
 
 def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[str, Any]:
-    """JSON-ready dict: inputs, extremes of every curve, verdicts and failing intervals."""
+    """JSON-ready dict: inputs, extremes of every curve, verdicts and failing intervals.
+
+    Parameters
+    ----------
+    res : FixtureInspection
+        Result of the conjugate-cam fixture analysis (THEORY §4).
+    spec : FixtureSpec
+        The fixture specification the inspection was run with (tolerances and errors).
+    name : str
+        Design name written to the ``design`` field.
+
+    Returns
+    -------
+    dict
+        JSON-ready dict; lengths in µm and angles in degrees, as the keys say.
+    """
     th = np.degrees(res.theta_rad)
     extremes = {f"{k}_um": _extreme(mx, mn) for k, (mx, mn) in res.extremes.items()}
     e = spec.errors
@@ -179,7 +239,20 @@ def _interval_text(intervals: list[tuple[float, float]]) -> str:
 def print_fixture(
     res: FixtureInspection, spec: FixtureSpec, name: str, *, console: Any = None
 ) -> None:
-    """Print the extremes table and the verdicts (rich)."""
+    """Print the extremes table and the verdicts (rich).
+
+    Parameters
+    ----------
+    res : FixtureInspection
+        Result of the conjugate-cam fixture analysis (THEORY §4).
+    spec : FixtureSpec
+        The fixture specification the inspection was run with (tolerances and errors).
+    name : str
+        Design name shown in the heading.
+    console : rich.console.Console, optional
+        Console to print to; by default a new one on standard output (132 columns when
+        not a terminal).
+    """
     from rich.console import Console
     from rich.table import Table
 

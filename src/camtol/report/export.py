@@ -145,6 +145,16 @@ class ProfilePoints:
     def curve(self, layer: str) -> ProfileCurve:
         """Return the curve on ``layer``.
 
+        Parameters
+        ----------
+        layer : str
+            Layer name, e.g. ``"CAM_PROFILE"``.
+
+        Returns
+        -------
+        ProfileCurve
+            The first curve on that layer.
+
         Raises
         ------
         KeyError

@@ -30,6 +30,16 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
 
     For writers that want a file name (e.g. matplotlib's ``savefig``). On an exception
     the temporary file is removed and ``path`` is left untouched.
+
+    Parameters
+    ----------
+    path : str or Path
+        Final file name; its directory must exist.
+
+    Yields
+    ------
+    Path
+        Temporary file in the same directory as ``path``, for the caller to write.
     """
     p = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=p.suffix or ".tmp", dir=p.parent)
@@ -44,7 +54,15 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
 
 
 def atomic_write(path: str | Path, data: str | bytes) -> None:
-    """Write text (UTF-8, newlines as given) or bytes to ``path`` atomically."""
+    """Write text (UTF-8, newlines as given) or bytes to ``path`` atomically.
+
+    Parameters
+    ----------
+    path : str or Path
+        File to write; replaced if it exists.
+    data : str or bytes
+        Content; text is encoded as UTF-8.
+    """
     payload = data.encode("utf-8") if isinstance(data, str) else data
     with atomic_output(path) as tmp:
         tmp.write_bytes(payload)

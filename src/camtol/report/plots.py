@@ -54,7 +54,18 @@ _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#
 
 
 def pretty_unit(unit: str) -> str:
-    """Display form of a unit key: ``um/rad2`` → ``µm/rad²``, ``deg`` → ``°``."""
+    """Display form of a unit key: ``um/rad2`` → ``µm/rad²``, ``deg`` → ``°``.
+
+    Parameters
+    ----------
+    unit : str
+        ASCII unit key, e.g. ``"um/rad2"``; ``""`` or ``"-"`` for dimensionless.
+
+    Returns
+    -------
+    str
+        The unit for display; ``"-"`` for a dimensionless quantity.
+    """
     if unit in ("-", ""):
         return "-"
     return unit.replace("um", "µm").replace("deg", "°").replace("rad2", "rad²").replace("s2", "s²")

@@ -51,7 +51,18 @@ def _extreme_json(e: Extreme) -> dict[str, Any]:
 
 
 def analysis_json(a: Analysis) -> dict[str, Any]:
-    """Return the analysis as a JSON-ready dict: design, tolerances, conventions, extremes."""
+    """Return the analysis as a JSON-ready dict: design, tolerances, conventions, extremes.
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+
+    Returns
+    -------
+    dict
+        JSON-ready dict; units are given in the keys or alongside the values.
+    """
     k = a.kinematics
     mech = a.design.mechanism
     rho_i = int(np.argmin(k.curvature_radius_mm))
@@ -105,7 +116,19 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
 
 
 def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
-    """Every curve on the grid, keyed by CSV column name (units in the names)."""
+    """Every curve on the grid, keyed by CSV column name (units in the names).
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+
+    Returns
+    -------
+    dict of str to ndarray
+        Columns in CSV order; a conjugate design gets both cams' profile columns
+        (:func:`camtol.report.conjugate.conjugate_profile_columns`).
+    """
     k = a.kinematics
     out_unit = "mm" if a.design.mechanism.output == "translating" else "deg"
     lift = k.lift if out_unit == "mm" else np.degrees(k.lift)
@@ -143,12 +166,28 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
 
 
 def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write a text file atomically (see :mod:`camtol.report.files`)."""
+    """Write a text file atomically (see :mod:`camtol.report.files`).
+
+    Parameters
+    ----------
+    path : str or Path
+        File to write; replaced if it exists.
+    text : str
+        Content, written as UTF-8 with newlines as given.
+    """
     atomic_write(path, text)
 
 
 def write_curves_csv(a: Analysis, path: str | Path) -> None:
-    """Write one row per grid angle (a segment boundary appears twice: left, right limit)."""
+    """Write one row per grid angle (a segment boundary appears twice: left, right limit).
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+    path : str or Path
+        CSV file to write; replaced if it exists.
+    """
     cols = curves_columns(a)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -174,7 +213,16 @@ def _rows(a: Analysis) -> Iterable[tuple[str, str, str, str, str, str]]:
 
 
 def print_analysis(a: Analysis, *, console: Any = None) -> None:
-    """Print the design summary and the extremes table (rich; colour only on a terminal)."""
+    """Print the design summary and the extremes table (rich; colour only on a terminal).
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse` for the design.
+    console : rich.console.Console, optional
+        Console to print to; by default a new one on standard output (132 columns when
+        not a terminal).
+    """
     from rich.console import Console
     from rich.table import Table
 
