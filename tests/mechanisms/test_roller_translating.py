@@ -85,7 +85,9 @@ def test_undercut_reported_with_cam_angle() -> None:
     # A fast rise with a small base circle and a big roller: the convex pitch curve near
     # the top of the rise is sharper than the roller.
     design = CamDesign("u", RollerTranslating(10.0, 25.0, 0.0), program(30.0, rise=60, dwell=10))
-    with pytest.raises(UndercutError, match=r"θ=\d+\.\d+°"):
+    with pytest.raises(
+        UndercutError, match=r"roller undercuts the profile: .* θ=\d+\.\d+°.* roller radius 25"
+    ):
         kinematics(design, np.radians(np.linspace(0, 360, 3601)))
 
 
