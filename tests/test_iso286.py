@@ -89,7 +89,7 @@ def tolerance_factor_um(lo: float, hi: float) -> float:
     """ISO 286-1 standard tolerance factor i (D <= 500) or I (D > 500), in µm."""
     d = math.sqrt((lo if lo > 0 else 1.0) * hi)  # first range: geometric mean of 1, 3
     if d <= 500:
-        return 0.45 * math.cbrt(d) + 0.001 * d
+        return 0.45 * (d) ** (1.0 / 3.0) + 0.001 * d
     return 0.004 * d + 2.1
 
 
