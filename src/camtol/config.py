@@ -44,7 +44,7 @@ from __future__ import annotations
 import csv
 import math
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 from typing import Any, Literal
@@ -531,6 +531,3 @@ def example_summary(name: str) -> str:
     return (
         str(data.get("description", "")).strip().splitlines()[0] if data.get("description") else ""
     )
-
-
-Loader = Callable[[str], CamDesign]

@@ -295,8 +295,3 @@ def require_finite(field: str, value: float) -> None:
 
     if not math.isfinite(value):
         raise DesignError(f"{field}={value!r} is not allowed; it must be a finite number")
-
-
-def as_array(x: JetLike) -> FloatArray:
-    """Plain value array of a jet or array."""
-    return np.asarray(jet.value(x), dtype=float)
