@@ -196,3 +196,15 @@ def test_pressure_angle_limit_warns_once(
     err = capsys.readouterr().err
     assert err.count("camtol: warning: pressure angle reaches") == 1
     assert "beyond the design limit 10°" in err
+
+
+def test_plot_at_a_chosen_angle(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "f.svg"
+    args = ["analyze", "-e", "cw06-oscillating", "--step", "1", "--plot", str(out), "-q"]
+    assert main([*args, "--plot-angle", "60"]) == 0
+    assert "follower at θ = 60° (cam frame)" in out.read_text()  # the cam panel's title
+    bad = tmp_path / "g.svg"
+    bad_args = ["analyze", "-e", "cw06-oscillating", "--plot", str(bad), "--plot-angle", "nan"]
+    assert main(bad_args) == 2
+    assert "--plot-angle=nan must be a finite number" in capsys.readouterr().err
+    assert not bad.exists()

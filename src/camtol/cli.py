@@ -134,6 +134,14 @@ def cli() -> None:
     help="Write one row per angle: profile, angles and every error curve (units in columns).",
 )
 @click.option("--plot", metavar="FILE.png", help="Write the paper-style figure (PNG, SVG, PDF).")
+@click.option(
+    "--plot-angle",
+    "plot_angle_deg",
+    type=float,
+    metavar="DEG",
+    help="Cam angle at which the figure draws the cam and follower [deg]"
+    " (default: where the worst-case error is largest).",
+)
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success (exit status only).")
 def analyze(
     design: str | None,
@@ -142,6 +150,7 @@ def analyze(
     as_json: bool,
     curves: str | None,
     plot: str | None,
+    plot_angle_deg: float | None,
     quiet: bool,
 ) -> None:
     """Analyse a design: profile, pressure and shift angles, and the follower's errors.
@@ -153,6 +162,8 @@ def analyze(
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        if plot_angle_deg is not None and not math.isfinite(plot_angle_deg):
+            fail(f"--plot-angle={plot_angle_deg!r} must be a finite number of degrees")
         from camtol.analysis import analyse
         from camtol.report import tables
 
@@ -160,7 +171,7 @@ def analyze(
         if curves:
             tables.write_curves_csv(a, curves)
         if plot:
-            _save_figure(a, plot)
+            _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
         if as_json:
             click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
         elif not quiet:
@@ -176,11 +187,11 @@ def _json_default(o: Any) -> Any:
     return str(o)
 
 
-def _save_figure(analysis: Any, path: str) -> None:
+def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
     from camtol.report.files import atomic_output
     from camtol.report.plots import analysis_figure
 
-    fig = analysis_figure(analysis)
+    fig = analysis_figure(analysis, cam_angle_deg=cam_angle_deg)
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
 

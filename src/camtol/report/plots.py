@@ -422,17 +422,19 @@ def _pivot(ax: Axes, o3: FloatArray) -> list[Any]:
 # ---------------------------------------------------------------------------------------
 # The whole figure of `camtol analyze --plot`
 # ---------------------------------------------------------------------------------------
-def analysis_figure(analysis: Analysis) -> Figure:
+def analysis_figure(analysis: Analysis, *, cam_angle_deg: float | None = None) -> Figure:
     """Draw the paper-like multi-panel figure of an analysis (CW06 Figs. 4-9).
 
-    Panels: the cam and follower at the angle of the largest worst-case error; λ, φ and
-    u; the radial-error factor; ΔS per source with worst case and RMS; ΔV and ΔA per
-    source.
+    Panels: the cam and follower at a chosen angle (default: where the worst-case error
+    is largest); λ, φ and u; the radial-error factor; ΔS per source with worst case and
+    RMS; ΔV and ΔA per source.
 
     Parameters
     ----------
     analysis : Analysis
         Result of :func:`camtol.analysis.analyse`.
+    cam_angle_deg : float, optional
+        Cam angle at which to draw the cam and follower. [deg]
 
     Returns
     -------
@@ -446,7 +448,8 @@ def analysis_figure(analysis: Analysis) -> Figure:
     fig = Figure(figsize=(13.0, 15.0), layout="constrained")
     axs = fig.subplots(3, 2)
     worst = analysis.extremes["dS_worst"][0]
-    cam_plot(analysis.design, round(worst.theta_deg, 2), ax=axs[0, 0])
+    at = round(worst.theta_deg, 2) if cam_angle_deg is None else cam_angle_deg
+    cam_plot(analysis.design, at, ax=axs[0, 0])
     shift_angle_plot(analysis, ax=axs[0, 1])
     radial_factor_plot(analysis, ax=axs[1, 0])
     lift_error_plot(analysis, ax=axs[1, 1])
