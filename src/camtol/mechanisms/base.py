@@ -22,7 +22,15 @@ from camtol.jet import FloatArray, JetLike
 OutputKind = Literal["translating", "oscillating"]
 SourceUnit = Literal["mm", "rad"]
 
-__all__ = ["ContactGeometry", "ErrorSource", "Mechanism", "OutputKind", "shift_angle"]
+__all__ = [
+    "ContactGeometry",
+    "ErrorSource",
+    "Mechanism",
+    "OutputKind",
+    "RollerMechanism",
+    "roller_undercut_mask",
+    "shift_angle",
+]
 
 
 @dataclass(frozen=True)
@@ -295,3 +303,51 @@ def require_finite(field: str, value: float) -> None:
 
     if not math.isfinite(value):
         raise DesignError(f"{field}={value!r} is not allowed; it must be a finite number")
+
+
+def roller_undercut_mask(
+    curvature_radius_mm: FloatArray, roller_radius_mm: float
+) -> NDArray[np.bool_]:
+    """Where a roller cannot generate the profile (THEORY §2.3, undercut).
+
+    Parameters
+    ----------
+    curvature_radius_mm : ndarray
+        Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
+    roller_radius_mm : float
+        Roller radius r_f. [mm]
+
+    Returns
+    -------
+    ndarray of bool
+        True where the convex pitch curve is sharper than the roller, 0 < ρ_pitch ≤ r_f,
+        i.e. −r_f < ρ ≤ 0. A concave pitch curve (ρ ≤ −r_f) is fine for a roller.
+    """
+    rho = np.asarray(curvature_radius_mm, dtype=float)
+    return np.asarray((rho <= 0.0) & (rho > -roller_radius_mm))
+
+
+class RollerMechanism(Mechanism):
+    """A mechanism whose follower touches the cam through a roller (THEORY §2.3, §2.4).
+
+    It carries the roller's undercut rule once for every roller follower: a concave
+    stretch of the profile is fine, a convex pitch curve sharper than the roller is not.
+    """
+
+    #: Roller radius r_f, defined as a field by each concrete mechanism. [mm]
+    roller_radius_mm: float
+
+    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
+        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.3).
+
+        Parameters
+        ----------
+        curvature_radius_mm : ndarray
+            Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
+
+        Returns
+        -------
+        ndarray of bool
+            See :func:`roller_undercut_mask`.
+        """
+        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)

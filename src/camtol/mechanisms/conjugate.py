@@ -36,6 +36,7 @@ from camtol.mechanisms.base import (
     ErrorSource,
     Mechanism,
     OutputKind,
+    RollerMechanism,
     require_positive,
 )
 from camtol.mechanisms.roller_oscillating import (
@@ -44,13 +45,13 @@ from camtol.mechanisms.roller_oscillating import (
     oscillating_roller_pitch,
     oscillating_roller_sensitivities,
 )
-from camtol.mechanisms.roller_translating import pitch_curvature_radius, roller_undercut_mask
+from camtol.mechanisms.roller_translating import pitch_curvature_radius
 
 __all__ = ["ConjugateCamB", "ConjugateKinematics", "ConjugatePair", "conjugate_kinematics"]
 
 
 @dataclass(frozen=True)
-class ConjugateCamB(Mechanism):
+class ConjugateCamB(RollerMechanism):
     r"""Cam B of a conjugate pair, seen as a single-contact mechanism; output ξ in radians.
 
     Parameters
@@ -145,10 +146,6 @@ class ConjugateCamB(Mechanism):
         )
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
-
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.4)."""
-        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension, r_D, l_B, f, η in degrees."""

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol import jet
 from camtol.exceptions import DesignError
@@ -28,12 +27,12 @@ from camtol.jet import FloatArray, Jet, JetLike
 from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
-    Mechanism,
     OutputKind,
+    RollerMechanism,
     require_positive,
     shift_angle,
 )
-from camtol.mechanisms.roller_translating import pitch_curvature_radius, roller_undercut_mask
+from camtol.mechanisms.roller_translating import pitch_curvature_radius
 
 __all__ = [
     "RollerOscillating",
@@ -191,7 +190,7 @@ def oscillating_roller_sensitivities(
 
 
 @dataclass(frozen=True)
-class RollerOscillating(Mechanism):
+class RollerOscillating(RollerMechanism):
     r"""Oscillating roller follower (cam A of THEORY §2.4 alone); output ξ in radians.
 
     Parameters
@@ -297,10 +296,6 @@ class RollerOscillating(Mechanism):
         )
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
-
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.4)."""
-        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, r_f, l, f."""

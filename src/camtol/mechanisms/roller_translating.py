@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol import jet
 from camtol.exceptions import DesignError
@@ -23,10 +22,11 @@ from camtol.jet import FloatArray, Jet, JetLike
 from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
-    Mechanism,
     OutputKind,
+    RollerMechanism,
     require_finite,
     require_positive,
+    roller_undercut_mask,
     shift_angle,
 )
 
@@ -58,30 +58,8 @@ def pitch_curvature_radius(cx: Jet, cy: Jet) -> FloatArray:
         return np.asarray(speed**3 / cross)
 
 
-def roller_undercut_mask(
-    curvature_radius_mm: FloatArray, roller_radius_mm: float
-) -> NDArray[np.bool_]:
-    """Where a roller cannot generate the profile (THEORY §2.3, undercut).
-
-    Parameters
-    ----------
-    curvature_radius_mm : ndarray
-        Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
-    roller_radius_mm : float
-        Roller radius r_f. [mm]
-
-    Returns
-    -------
-    ndarray of bool
-        True where the convex pitch curve is sharper than the roller, 0 < ρ_pitch ≤ r_f,
-        i.e. −r_f < ρ ≤ 0. A concave pitch curve (ρ ≤ −r_f) is fine for a roller.
-    """
-    rho = np.asarray(curvature_radius_mm, dtype=float)
-    return np.asarray((rho <= 0.0) & (rho > -roller_radius_mm))
-
-
 @dataclass(frozen=True)
-class RollerTranslating(Mechanism):
+class RollerTranslating(RollerMechanism):
     r"""Offset translating roller follower; output S in mm.
 
     Parameters
@@ -226,10 +204,6 @@ class RollerTranslating(Mechanism):
         cx, cy = self.pitch_point(theta, s)
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
-
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.3)."""
-        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, r_f, |e|."""
