@@ -38,6 +38,14 @@ __all__ = ["conjugate"]
     " or a formula in theta (rad) / theta_deg giving µm. Overrides inspection.df_mea_um.",
 )
 @click.option(
+    "--record",
+    "record_path",
+    metavar="FILE.csv",
+    help="Dial-indicator record (CSV columns df_um, index[, time_s]; THEORY §4.4): its mean"
+    " over complete revolutions is Δf_mea, and the estimates at Δf_mea ± u_f are reported."
+    " Not with --df-mea.",
+)
+@click.option(
     "--master-a",
     metavar="VALUE|FILE.csv|FORMULA",
     help="Known radial error of master cam A (µm), as for --df-mea.",
@@ -66,6 +74,7 @@ def conjugate(
     design: str | None,
     example: str | None,
     df_mea: str | None,
+    record_path: str | None,
     master_a: str | None,
     master_b: str | None,
     step_deg: float,
@@ -80,9 +89,19 @@ def conjugate(
     the master cams' errors and the measured Δf (THEORY §4, §8.3); the options override
     them. Prints the extremes and a verdict per inspected cam with the cam-angle intervals
     where it fails. Exit status 1 when a cam fails.
+
+    With --record the indicator record is processed (THEORY §4.4): its mean over complete
+    revolutions is Δf_mea and the verdicts are taken on it; the inverse estimates at the
+    statistical representatives Δf_mea ± u_f (u_f: 3 standard deviations over
+    revolutions) are reported as upper and lower worst-case estimates.
     """
 
     def body() -> int:
+        if record_path is not None and df_mea is not None:
+            fail(
+                f"--record={record_path!r} and --df-mea={df_mea!r} are mutually exclusive;"
+                " give the measured Δf one way"
+            )
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         from camtol.inspection.fixture import (
@@ -121,9 +140,23 @@ def conjugate(
             master_a=option(master_a, "--master-a", spec.master_a),
             master_b=option(master_b, "--master-b", spec.master_b),
         )
+        estimates = None
+        if record_path is not None:
+            from camtol.inspection.record import (
+                process_record,
+                read_indicator_csv,
+                to_error_function,
+            )
+
+            processed = process_record(read_indicator_csv(record_path))
+            spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
         res = inspect_conjugate(d, spec, step_deg=step_deg)
+        if record_path is not None:
+            from camtol.inspection.record import record_estimates
+
+            estimates = record_estimates(d, spec, processed, res.theta_rad)
         if curves:
-            rep.write_fixture_curves_csv(res, curves)
+            rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
             from camtol.report.files import atomic_output
             from camtol.report.plots import fixture_figure
@@ -135,10 +168,14 @@ def conjugate(
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if as_json:
             click.echo(
-                json.dumps(rep.fixture_json(res, spec, d.name), indent=2, default=_json_default)
+                json.dumps(
+                    rep.fixture_json(res, spec, d.name, record=estimates),
+                    indent=2,
+                    default=_json_default,
+                )
             )
         elif not quiet:
-            rep.print_fixture(res, spec, d.name)
+            rep.print_fixture(res, spec, d.name, record=estimates)
         return EXIT_FAIL if res.passed is False else EXIT_OK
 
     raise _Exit(run_guarded(body))

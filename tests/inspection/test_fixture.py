@@ -274,3 +274,24 @@ def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
     assert mx_c.theta_deg == pytest.approx(mx_f.theta_deg, abs=2e-3)
     assert mx_c.value == pytest.approx(mx_f.value, abs=1e-6)  # quadratic in the location error
     assert fine.extremes["df_mea"][0].ranges_deg == ((0.0, 360.0),)
+
+
+def test_merge_intervals_joins_short_gaps_only() -> None:
+    from camtol.inspection.fixture import merge_intervals
+
+    slivers = [(80.5, 80.51), (80.62, 80.72), (81.0, 133.9), (134.2, 135.0), (221.95, 248.5)]
+    assert merge_intervals(slivers, 1.0) == [(80.5, 135.0), (221.95, 248.5)]
+    assert merge_intervals(slivers, 0.0) == slivers  # no gap is shorter than 0°
+    assert merge_intervals([], 1.0) == []
+
+
+def test_json_has_exact_intervals_and_stretches(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from camtol.cli import main
+
+    assert main(["conjugate", "-e", "cw11-conjugate", "--json", "--step", "0.5"]) == 1
+    verdict = json.loads(capsys.readouterr().out)["verdicts"]["A"]
+    assert verdict["stretch_merge_gap_deg"] == 1.0
+    # a clean record: the stretches are the exact intervals
+    assert verdict["failing_stretches_deg"] == verdict["failing_intervals_deg"]

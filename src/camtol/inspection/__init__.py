@@ -1,4 +1,4 @@
-"""Inspection of machined cams (THEORY §4): the conjugate-cam measuring fixture."""
+"""Inspection of machined cams (THEORY §4): the conjugate-cam measuring fixture and its record."""
 
 from __future__ import annotations
 
@@ -18,8 +18,20 @@ from camtol.inspection.fixture import (
     failing_intervals,
     inspect_conjugate,
     inverse_estimate,
+    merge_intervals,
     parse_error_function,
     parse_length_um,
+)
+from camtol.inspection.record import (
+    IndicatorRecord,
+    ProcessedRecord,
+    RecordEstimates,
+    process_record,
+    read_indicator_csv,
+    record_estimates,
+    simulate_record,
+    to_error_function,
+    write_indicator_csv,
 )
 
 __all__ = [
@@ -31,13 +43,23 @@ __all__ = [
     "FixtureErrors",
     "FixtureInspection",
     "FixtureSpec",
+    "IndicatorRecord",
     "InverseEstimate",
+    "ProcessedRecord",
+    "RecordEstimates",
     "acceptance_bands",
     "conjugate_factors",
     "conjugate_variation",
     "failing_intervals",
     "inspect_conjugate",
     "inverse_estimate",
+    "merge_intervals",
     "parse_error_function",
     "parse_length_um",
+    "process_record",
+    "read_indicator_csv",
+    "record_estimates",
+    "simulate_record",
+    "to_error_function",
+    "write_indicator_csv",
 ]

@@ -29,7 +29,7 @@ import ast
 import csv
 import math
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -57,6 +57,7 @@ __all__ = [
     "conjugate_factors",
     "conjugate_variation",
     "failing_intervals",
+    "merge_intervals",
     "fixture_spec_from_mapping",
     "inspect_conjugate",
     "inverse_estimate",
@@ -728,6 +729,35 @@ class CamVerdict:
     passed: bool
     failing_intervals_deg: list[tuple[float, float]]
     min_margin_um: float
+
+
+def merge_intervals(
+    intervals: Sequence[tuple[float, float]], gap_deg: float
+) -> list[tuple[float, float]]:
+    """Join failing intervals separated by less than ``gap_deg``.
+
+    A noisy measured record crosses a band edge many times; the exact intervals are then
+    many slivers. Joining them across short gaps gives the stretches an inspector acts on.
+
+    Parameters
+    ----------
+    intervals : sequence of (float, float)
+        Sorted, non-overlapping cam-angle intervals. [deg]
+    gap_deg : float
+        Gaps shorter than this are closed. [deg]
+
+    Returns
+    -------
+    list of (float, float)
+        The joined intervals. [deg]
+    """
+    out: list[tuple[float, float]] = []
+    for a, b in intervals:
+        if out and a - out[-1][1] < gap_deg:
+            out[-1] = (out[-1][0], b)
+        else:
+            out.append((a, b))
+    return out
 
 
 def failing_intervals(

@@ -11,17 +11,20 @@ import io
 import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from camtol import __version__
 from camtol.analysis import Analysis
 from camtol.extremes import Extreme
-from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+from camtol.inspection.fixture import FixtureInspection, FixtureSpec, merge_intervals
 from camtol.jet import FloatArray
 from camtol.kinematics import kinematics
 from camtol.mechanisms.conjugate import cam_design
+
+if TYPE_CHECKING:
+    from camtol.inspection.record import RecordEstimates
 
 __all__ = [
     "conjugate_analysis_json",
@@ -111,13 +114,19 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
     }
 
 
-def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
+def fixture_curves_columns(
+    res: FixtureInspection, *, record: RecordEstimates | None = None
+) -> dict[str, FloatArray]:
     """Every fixture curve on the grid, keyed by CSV column name (µm, degrees).
 
     Parameters
     ----------
     res : FixtureInspection
         Result of the conjugate-cam fixture analysis (THEORY §4).
+    record : RecordEstimates, optional
+        With an indicator record (THEORY §4.4): adds ``u_f_um`` and the estimates at
+        Δf_mea ± u_f, ``dr_A_est_upper_um``, ``dr_A_est_lower_um``, ``dr_B_est_upper_um``,
+        ``dr_B_est_lower_um`` [µm], on the same grid.
 
     Returns
     -------
@@ -128,7 +137,7 @@ def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
     v, b = res.variation, res.bands
     nan = np.full(res.theta_rad.shape, np.nan)
     est = res.estimate
-    return {
+    cols = {
         "theta_deg": np.degrees(res.theta_rad),
         "df_r_um": v.df_r_um,
         "df_rf_um": v.df_rf_um,
@@ -147,9 +156,14 @@ def fixture_curves_columns(res: FixtureInspection) -> dict[str, FloatArray]:
         "shift_angle_A_deg": np.degrees(res.factors.shift_a_rad),
         "shift_angle_B_deg": np.degrees(res.factors.shift_b_rad),
     }
+    if record is not None:
+        cols |= {f"{k}_um": v for k, v in record.curves().items()}
+    return cols
 
 
-def write_fixture_curves_csv(res: FixtureInspection, path: str | Path) -> None:
+def write_fixture_curves_csv(
+    res: FixtureInspection, path: str | Path, *, record: RecordEstimates | None = None
+) -> None:
     """Write one row per grid angle (atomically).
 
     Parameters
@@ -158,10 +172,13 @@ def write_fixture_curves_csv(res: FixtureInspection, path: str | Path) -> None:
         Result of the conjugate-cam fixture analysis (THEORY §4).
     path : str or Path
         CSV file to write; replaced if it exists.
+    record : RecordEstimates, optional
+        With an indicator record: adds the columns of u_f and of the estimates at
+        Δf_mea ± u_f (see :func:`fixture_curves_columns`). [µm]
     """
     from camtol.report.tables import atomic_write_text
 
-    cols = fixture_curves_columns(res)
+    cols = fixture_curves_columns(res, record=record)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
@@ -181,7 +198,13 @@ def _extreme(mx: Extreme, mn: Extreme) -> dict[str, Any]:
     }
 
 
-def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[str, Any]:
+def fixture_json(
+    res: FixtureInspection,
+    spec: FixtureSpec,
+    name: str,
+    *,
+    record: RecordEstimates | None = None,
+) -> dict[str, Any]:
     """JSON-ready dict: inputs, extremes of every curve, verdicts and failing intervals.
 
     Parameters
@@ -192,6 +215,12 @@ def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[s
         The fixture specification the inspection was run with (tolerances and errors).
     name : str
         Design name written to the ``design`` field.
+    record : RecordEstimates, optional
+        With an indicator record (THEORY §4.4): adds a ``record`` object (revolutions,
+        samples per revolution min/max, ``u_f_max_um``, ``u_f_rms_um``, ``df_mea_rms_um``,
+        notes) and the extremes of ``u_f_um`` and of the estimates at Δf_mea ± u_f
+        (``dr_A_est_upper_um``, ``dr_A_est_lower_um``, ``dr_B_est_upper_um``,
+        ``dr_B_est_lower_um``). The verdicts stay those of the mean record.
 
     Returns
     -------
@@ -200,8 +229,10 @@ def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[s
     """
     th = np.degrees(res.theta_rad)
     extremes = {f"{k}_um": _extreme(mx, mn) for k, (mx, mn) in res.extremes.items()}
+    if record is not None:
+        extremes |= {f"{k}_um": _extreme(mx, mn) for k, (mx, mn) in record.extremes.items()}
     e = spec.errors
-    return {
+    out = {
         "camtol_version": __version__,
         "design": name,
         "step_deg": float(th[1] - th[0]),
@@ -224,20 +255,62 @@ def fixture_json(res: FixtureInspection, spec: FixtureSpec, name: str) -> dict[s
                 "failing_intervals_deg": [
                     [round(a, 4), round(b, 4)] for a, b in v.failing_intervals_deg
                 ],
+                "failing_stretches_deg": [
+                    [round(a, 4), round(b, 4)]
+                    for a, b in merge_intervals(v.failing_intervals_deg, MERGE_GAP_DEG)
+                ],
+                "stretch_merge_gap_deg": MERGE_GAP_DEG,
                 "min_margin_um": v.min_margin_um,
             }
             for cam, v in res.verdicts.items()
         },
         "passed": res.passed,
     }
+    if record is not None:
+        out["record"] = _record_json(record)
+    return out
+
+
+def _record_json(record: RecordEstimates) -> dict[str, Any]:
+    p = record.processed
+    return {
+        "source": p.source,
+        "revolutions": p.revolutions,
+        "samples_per_revolution": {
+            "min": int(p.samples_per_revolution.min()),
+            "max": int(p.samples_per_revolution.max()),
+        },
+        "discarded_samples": p.discarded_samples,
+        "grid_step_deg": float(p.theta_deg[1] - p.theta_deg[0]),
+        "u_f_max_um": p.u_f_max_um,
+        "u_f_rms_um": p.u_f_rms_um,
+        "df_mea_rms_um": p.df_mea_rms_um,
+        "notes": list(p.notes),
+    }
+
+
+#: Failing intervals closer than this are reported together as one stretch. [deg]
+MERGE_GAP_DEG = 1.0
 
 
 def _interval_text(intervals: list[tuple[float, float]]) -> str:
-    return ", ".join(f"{a:.2f}-{b:.2f}°" for a, b in intervals)
+    stretches = merge_intervals(intervals, MERGE_GAP_DEG)
+    text = ", ".join(f"{a:.2f}-{b:.2f}°" for a, b in stretches)
+    if len(stretches) < len(intervals):
+        text += (
+            f" ({len(intervals)} intervals joined across gaps < {MERGE_GAP_DEG:g}°;"
+            " the exact ones are in --json)"
+        )
+    return text
 
 
 def print_fixture(
-    res: FixtureInspection, spec: FixtureSpec, name: str, *, console: Any = None
+    res: FixtureInspection,
+    spec: FixtureSpec,
+    name: str,
+    *,
+    console: Any = None,
+    record: RecordEstimates | None = None,
 ) -> None:
     """Print the extremes table and the verdicts (rich).
 
@@ -252,6 +325,9 @@ def print_fixture(
     console : rich.console.Console, optional
         Console to print to; by default a new one on standard output (132 columns when
         not a terminal).
+    record : RecordEstimates, optional
+        With an indicator record (THEORY §4.4): prints the record's summary and the
+        extremes of the estimates at Δf_mea ± u_f.
     """
     from rich.console import Console
     from rich.table import Table
@@ -280,6 +356,8 @@ def print_fixture(
     for key, (mx, mn) in res.extremes.items():
         table.add_row(key, f"{mx.value:.3f}", mx.where, f"{mn.value:.3f}", mn.where)
     con.print(table)
+    if record is not None:
+        _print_record(con, record)
     if not res.verdicts:
         con.print("No measured Δf: forward variation of the master pair only; no verdict.")
         return
@@ -294,5 +372,31 @@ def print_fixture(
     con.print(
         "Acceptance (THEORY §4.3, a necessary condition): Δf_lower,est ≤ Δf_mea ≤ Δf_upper,est;"
         " interval ends located to 1e-4°.",
+        style="dim",
+    )
+
+
+def _print_record(con: Any, record: RecordEstimates) -> None:
+    """Print the indicator record's summary and the worst-case estimates (THEORY §4.4)."""
+    p = record.processed
+    n = p.samples_per_revolution
+    spr = f"{n.min()}" if n.min() == n.max() else f"{n.min()}-{n.max()}"
+    con.print(
+        f"Indicator record {p.source}: {p.revolutions} revolution(s), {spr} samples per"
+        f" revolution, resampled every {p.theta_deg[1] - p.theta_deg[0]:g}°;"
+        f" rms Δf_mea {p.df_mea_rms_um:.3f} µm, u_f (3σ over revolutions)"
+        f" rms {p.u_f_rms_um:.3f} µm, max {p.u_f_max_um:.3f} µm"
+    )
+    for note in p.notes:
+        con.print(f"  note: {note}", style="dim")
+    for cam in ("A", "B"):
+        hi = record.extremes[f"dr_{cam}_est_upper"]
+        lo = record.extremes[f"dr_{cam}_est_lower"]
+        con.print(
+            f"  Δr_{cam},est at Δf_mea + u_f: {hi[1].value:.3f} .. {hi[0].value:.3f} µm;"
+            f" at Δf_mea − u_f: {lo[1].value:.3f} .. {lo[0].value:.3f} µm"
+        )
+    con.print(
+        "  Verdicts are taken on the mean record Δf_mea (a necessary condition on the mean).",
         style="dim",
     )

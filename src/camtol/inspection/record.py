@@ -1,0 +1,596 @@
+"""The dial-indicator record of the conjugate measuring fixture (THEORY §4.4).
+
+The fixture's indicator is sampled at a constant rate while the conjugate pair turns slowly
+(the published experiment: 4 rev/h, 5 Hz, hence 4500 samples per revolution, 10
+revolutions); an optical index mark fires on the sample that starts each revolution
+([CW11] §4.2, §5). This module
+
+* reads and writes such a record (:func:`read_indicator_csv`, :func:`write_indicator_csv`;
+  CSV with a header, columns ``df_um`` and ``index`` and optionally ``time_s``);
+* processes it (:func:`process_record`): every complete revolution between consecutive
+  index marks is mapped uniformly onto 0-360° (constant speed within a revolution),
+  resampled by periodic linear interpolation onto a 0.1° grid (3600 points), and the mean
+  over revolutions is Δf_mea(θ) and three sample standard deviations over revolutions the
+  uncertainty u_f(θ);
+* turns the mean into the measured Δf of a fixture analysis (:func:`to_error_function`);
+* evaluates the inverse analysis at the statistical representatives Δf_mea ± u_f, the
+  upper and lower worst-case estimates of Δr_A,est and Δr_B,est
+  (:func:`record_estimates`);
+* simulates a record of a known Δf(θ) for tests and trials (:func:`simulate_record`).
+
+The acceptance verdicts of :func:`~camtol.inspection.fixture.inspect_conjugate` are taken
+on the mean record Δf_mea: a necessary condition on the mean (THEORY §4.3); the band
+Δf_mea ± u_f shows how far the record's scatter could move the estimates.
+
+References
+----------
+.. [CW11] W.-T. Chang, L.-I. Wu, "A convenient and inexpensive quality control method for
+   examining the accuracy of conjugate cam profiles", in *Wide Spectra of Quality
+   Control*, InTech, 2011, ch. 20. doi:10.5772/23665
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError, InputFileError
+from camtol.extremes import Extreme, find_extremes
+from camtol.inspection.fixture import (
+    ErrorFunction,
+    FixtureSpec,
+    InverseEstimate,
+    conjugate_factors,
+    inverse_estimate,
+)
+from camtol.jet import FloatArray
+
+__all__ = [
+    "IndicatorRecord",
+    "ProcessedRecord",
+    "RecordEstimates",
+    "process_record",
+    "read_indicator_csv",
+    "record_estimates",
+    "simulate_record",
+    "to_error_function",
+    "write_indicator_csv",
+]
+
+_REQUIRED = ("df_um", "index")
+_OPTIONAL = ("time_s",)
+_MIN_SAMPLES = 3  # per revolution: fewer cannot describe a function of θ
+
+
+@dataclass(frozen=True)
+class IndicatorRecord:
+    """A raw dial-indicator record of the conjugate fixture (THEORY §4.4).
+
+    Attributes
+    ----------
+    df_um : ndarray
+        Indicator reading Δf, one per sample. [µm]
+    index : ndarray of bool
+        True on the samples where the optical index mark fires (start of a revolution).
+    time_s : ndarray or None
+        Sample times when recorded. [s]
+    source : str
+        Where it comes from (file name or ``"simulated"``), used in messages.
+    """
+
+    df_um: FloatArray
+    index: NDArray[np.bool_]
+    time_s: FloatArray | None = None
+    source: str = "record"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "df_um", np.asarray(self.df_um, dtype=np.float64))
+        object.__setattr__(self, "index", np.asarray(self.index, dtype=bool))
+        if self.time_s is not None:
+            object.__setattr__(self, "time_s", np.asarray(self.time_s, dtype=np.float64))
+        n = self.df_um.shape
+        if self.df_um.ndim != 1 or self.index.shape != n:
+            raise InputFileError(
+                f"{self.source}: df_um and index must be 1-D and of equal length,"
+                f" got {self.df_um.shape} and {self.index.shape}"
+            )
+        if self.time_s is not None and self.time_s.shape != n:
+            raise InputFileError(
+                f"{self.source}: time_s must have one value per sample ({n[0]}),"
+                f" got {self.time_s.shape}"
+            )
+
+    @property
+    def marks(self) -> NDArray[np.intp]:
+        """Sample numbers (0-based) of the index marks."""
+        return np.flatnonzero(self.index)
+
+
+def _column(
+    cells: list[list[str]], lines: list[int], col: int, name: str, path: Path
+) -> FloatArray:
+    """Convert one column to floats; on failure name the file line and the cell."""
+    try:
+        values = np.array([row[col] for row in cells], dtype=float)
+    except ValueError:
+        for row, lineno in zip(cells, lines, strict=True):
+            try:
+                float(row[col])
+            except ValueError:
+                raise InputFileError(
+                    f"{path}, line {lineno}: column {name}={row[col]!r} is not a number"
+                ) from None
+        raise  # pragma: no cover - the loop finds the bad cell
+    bad = ~np.isfinite(values)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise InputFileError(
+            f"{path}, line {lines[i]}: column {name}={cells[i][col]!r} is not allowed;"
+            " give a finite number"
+        )
+    return values
+
+
+def read_indicator_csv(path: str | Path) -> IndicatorRecord:
+    """Read a dial-indicator record of the conjugate fixture (THEORY §4.4).
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with a header line naming the columns: ``df_um`` (indicator reading Δf
+        [µm]) and ``index`` (1 on the sample where the optical index mark fires, the start
+        of a revolution, else 0) are required, ``time_s`` (sample time [s]) is optional,
+        other columns are ignored. Lines starting with ``#`` and blank lines are skipped.
+
+    Returns
+    -------
+    IndicatorRecord
+        The samples in file order.
+
+    Raises
+    ------
+    InputFileError
+        If the file cannot be read, a required column is missing (the message lists the
+        columns found), a row is short, a cell is not a finite number (with its line), an
+        index cell is not 0 or 1, or there are fewer than two index marks (at least one
+        complete revolution is needed).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputFileError(
+            f"{p}: cannot read the indicator record ({exc.strerror or exc})"
+        ) from None
+    except UnicodeDecodeError:
+        raise InputFileError(f"{p}: the indicator record is not UTF-8 text (CSV)") from None
+    header: list[str] | None = None
+    cells: list[list[str]] = []
+    lines: list[int] = []
+    for lineno, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
+            continue
+        if header is None:
+            header = [c.strip() for c in row]
+            continue
+        cells.append(row)
+        lines.append(lineno)
+    found = ", ".join(header) if header else "(no header line)"
+    missing = [c for c in _REQUIRED if header is None or c not in header]
+    if missing:
+        raise InputFileError(
+            f"{p}: the indicator record needs the columns {', '.join(_REQUIRED)}"
+            f" (optional {', '.join(_OPTIONAL)}); missing {', '.join(missing)}; found: {found}"
+        )
+    assert header is not None
+    width = max(header.index(c) for c in (*_REQUIRED, *(o for o in _OPTIONAL if o in header)))
+    for row, lineno in zip(cells, lines, strict=True):
+        if len(row) <= width:
+            raise InputFileError(
+                f"{p}, line {lineno}: expected {len(header)} cells ({', '.join(header)}),"
+                f" got {len(row)}"
+            )
+    df = _column(cells, lines, header.index("df_um"), "df_um", p)
+    idx = _column(cells, lines, header.index("index"), "index", p)
+    bad = (idx != 0) & (idx != 1)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise InputFileError(
+            f"{p}, line {lines[i]}: column index={cells[i][header.index('index')]!r} is not"
+            " allowed; give 1 where the index mark fires, else 0"
+        )
+    time = (
+        _column(cells, lines, header.index("time_s"), "time_s", p) if "time_s" in header else None
+    )
+    rec = IndicatorRecord(df, idx == 1, time, str(p))
+    _check_marks(rec)
+    return rec
+
+
+def _check_marks(record: IndicatorRecord) -> NDArray[np.intp]:
+    """Return the index marks; check there are two and every revolution is long enough."""
+    marks = record.marks
+    if marks.size < 2:
+        raise InputFileError(
+            f"{record.source}: found {marks.size} index mark(s) in {record.df_um.size} samples;"
+            " need at least 2 (one complete revolution between consecutive marks)"
+        )
+    lengths = np.diff(marks)
+    if np.any(lengths < _MIN_SAMPLES):
+        i = int(np.argmax(lengths < _MIN_SAMPLES))
+        raise InputFileError(
+            f"{record.source}: revolution {i + 1} (samples {marks[i] + 1}-{marks[i + 1]}) has"
+            f" {lengths[i]} sample(s); need at least {_MIN_SAMPLES} between index marks"
+        )
+    return marks
+
+
+def write_indicator_csv(record: IndicatorRecord, path: str | Path) -> None:
+    """Write a record as CSV (atomically) in the form :func:`read_indicator_csv` reads.
+
+    Parameters
+    ----------
+    record : IndicatorRecord
+        The samples.
+    path : str or Path
+        CSV file to write; replaced if it exists. Columns ``time_s`` (when the record has
+        times) [s], ``df_um`` [µm], ``index`` (0/1); values written with 17 significant
+        digits, so reading it back gives the same numbers.
+    """
+    from camtol.report.files import atomic_write
+
+    cols: list[tuple[str, NDArray[np.str_]]] = []
+    if record.time_s is not None:
+        cols.append(("time_s", np.char.mod("%.17g", record.time_s)))
+    cols.append(("df_um", np.char.mod("%.17g", record.df_um)))
+    cols.append(("index", np.where(record.index, "1", "0")))
+    names = [c for c, _ in cols]
+    body = cols[0][1]
+    for _, values in cols[1:]:
+        body = np.char.add(np.char.add(body, ","), values)
+    text = (
+        f"# camtol indicator record ({record.source}): {record.marks.size} index marks,"
+        f" {record.df_um.size} samples\n" + ",".join(names) + "\n"
+    )
+    if body.size:
+        text += "\n".join(body.tolist()) + "\n"
+    atomic_write(path, text)
+
+
+@dataclass(frozen=True)
+class ProcessedRecord:
+    """A record reduced to Δf_mea(θ) and u_f(θ) on a uniform grid (THEORY §4.4).
+
+    Attributes
+    ----------
+    theta_deg : ndarray
+        The grid 0, step, ..., 360 − step. [deg]
+    df_mea_um : ndarray
+        Mean over revolutions, Δf_mea(θ). [µm]
+    u_f_um : ndarray
+        Three sample standard deviations (ddof = 1) over revolutions, u_f(θ); zero with a
+        single revolution. [µm]
+    revolutions : int
+        Number of complete revolutions used.
+    samples_per_revolution : ndarray of int
+        Samples of each revolution (between consecutive index marks).
+    resampled_um : ndarray
+        Each revolution on the grid, shape (revolutions, grid points). [µm]
+    discarded_samples : int
+        Samples before the first index mark and from the last one on (not a complete
+        revolution).
+    df_mea_rms_um, u_f_rms_um, u_f_max_um : float
+        rms of Δf_mea, rms and maximum of u_f. [µm]
+    notes : tuple of str
+        Remarks on the processing (e.g. a single revolution gives no uncertainty).
+    source : str
+        Where the record comes from.
+    """
+
+    theta_deg: FloatArray
+    df_mea_um: FloatArray
+    u_f_um: FloatArray
+    revolutions: int
+    samples_per_revolution: NDArray[np.intp]
+    resampled_um: FloatArray
+    discarded_samples: int
+    df_mea_rms_um: float
+    u_f_rms_um: float
+    u_f_max_um: float
+    notes: tuple[str, ...]
+    source: str
+
+
+def _grid_deg(step_deg: float) -> FloatArray:
+    if not (isinstance(step_deg, int | float) and math.isfinite(step_deg) and step_deg > 0):
+        raise DesignError(f"step_deg={step_deg!r} is not allowed; give a positive number")
+    n = int(round(360.0 / step_deg))
+    if n < 4 or abs(n * step_deg - 360.0) > 1e-9:
+        raise DesignError(
+            f"step_deg={step_deg:g} is not allowed; 360 must be a whole multiple of it"
+            " (at least 4 points)"
+        )
+    return np.asarray(360.0 * np.arange(n, dtype=np.float64) / n, dtype=np.float64)
+
+
+def process_record(record: IndicatorRecord, *, step_deg: float = 0.1) -> ProcessedRecord:
+    """Reduce an indicator record to Δf_mea(θ) and u_f(θ) (THEORY §4.4; [CW11] §4.2, §5).
+
+    Parameters
+    ----------
+    record : IndicatorRecord
+        The raw samples with their index marks.
+    step_deg : float
+        Step of the common grid 0, step, ..., 360 − step; 360 must be a whole multiple of
+        it (0.1° gives the 3600 points of the published experiment). [deg]
+
+    Returns
+    -------
+    ProcessedRecord
+
+    Raises
+    ------
+    InputFileError
+        Fewer than two index marks, or a revolution with fewer than 3 samples.
+    DesignError
+        A step that does not divide 360.
+
+    Notes
+    -----
+    Samples before the first index mark and from the last mark on are discarded (they do
+    not make a complete revolution). The speed is taken as constant within a revolution
+    (it may differ between revolutions): sample k of the n samples of a revolution is at
+    θ = 360·k/n degrees, the index mark at θ = 0. Each revolution is resampled on the grid
+    by linear interpolation, periodic over 360°; then Δf_mea is the mean over revolutions
+    and u_f = 3·s with s the sample standard deviation (ddof = 1) over revolutions.
+
+    Linear interpolation at a fraction w between two samples averages them, which scales
+    the noise variance by w² + (1 − w)² (11/16 on average over the grid). So between
+    sample points u_f understates the reading noise: with 4500 samples per revolution on a
+    0.1° grid the rms of u_f is about √(11/16) ≈ 0.83 of 3σ. This is THEORY §4.4's
+    procedure, followed as written; the tests state the factor.
+    """
+    grid = _grid_deg(step_deg)
+    marks = _check_marks(record)
+    lengths = np.diff(marks).astype(np.intp)
+    revs = lengths.size
+    resampled = np.empty((revs, grid.size))
+    for i in range(revs):  # one pass per revolution; vectorised within it
+        seg = record.df_um[marks[i] : marks[i + 1]]
+        angles = 360.0 * np.arange(seg.size) / seg.size
+        resampled[i] = np.interp(grid, angles, seg, period=360.0)
+    mean = resampled.mean(axis=0)
+    notes: list[str] = []
+    if revs > 1:
+        u_f = 3.0 * resampled.std(axis=0, ddof=1)
+    else:
+        u_f = np.zeros_like(mean)
+        notes.append(
+            "a single complete revolution: no scatter between revolutions, u_f is 0"
+            " (record more revolutions for an uncertainty)"
+        )
+    discarded = int(record.df_um.size - (marks[-1] - marks[0]))
+    if discarded > 1:
+        notes.append(
+            f"{discarded} samples outside the complete revolutions were discarded"
+            f" ({marks[0]} before the first index mark, {record.df_um.size - marks[-1]} from"
+            " the last one on)"
+        )
+    if lengths.max() > 1.05 * lengths.min():
+        notes.append(
+            f"samples per revolution vary from {lengths.min()} to {lengths.max()}"
+            " (speed differs between revolutions; each is mapped onto 0-360° on its own)"
+        )
+    return ProcessedRecord(
+        theta_deg=grid,
+        df_mea_um=np.asarray(mean),
+        u_f_um=np.asarray(u_f),
+        revolutions=revs,
+        samples_per_revolution=lengths,
+        resampled_um=resampled,
+        discarded_samples=discarded,
+        df_mea_rms_um=float(np.sqrt(np.mean(mean**2))),
+        u_f_rms_um=float(np.sqrt(np.mean(u_f**2))),
+        u_f_max_um=float(u_f.max()),
+        notes=tuple(notes),
+        source=record.source,
+    )
+
+
+def to_error_function(processed: ProcessedRecord, *, offset_u_f: float = 0.0) -> ErrorFunction:
+    """Return the processed mean as a periodic table, usable as ``FixtureSpec.df_mea``.
+
+    Parameters
+    ----------
+    processed : ProcessedRecord
+        From :func:`process_record`.
+    offset_u_f : float
+        Multiple of u_f added to the mean: 0 gives Δf_mea, +1 and −1 the statistical
+        representatives Δf_mea ± u_f (THEORY §4.4). [-]
+
+    Returns
+    -------
+    ErrorFunction
+        Δf_mea(θ) + offset_u_f·u_f(θ), interpolated linearly and periodically. [µm]
+    """
+    if not math.isfinite(offset_u_f):
+        raise DesignError(f"offset_u_f={offset_u_f!r} must be a finite number")
+    name = f"{processed.source}, mean of {processed.revolutions} revolution(s)"
+    if offset_u_f:
+        name += f" {'+' if offset_u_f > 0 else '-'} {abs(offset_u_f):g}·u_f"
+    values = processed.df_mea_um + offset_u_f * processed.u_f_um
+    return ErrorFunction.table(processed.theta_deg, values, name=name)
+
+
+@dataclass(frozen=True)
+class RecordEstimates:
+    """Inverse estimates at the statistical representatives Δf_mea ± u_f (THEORY §4.4).
+
+    Attributes
+    ----------
+    processed : ProcessedRecord
+        The processed record.
+    theta_rad : ndarray
+        The analysis grid. [rad]
+    u_f_um : ndarray
+        u_f on the analysis grid. [µm]
+    upper, lower : InverseEstimate
+        Δr_A,est and Δr_B,est from Δf_mea + u_f and from Δf_mea − u_f. [µm]
+    extremes : dict of str to (Extreme, Extreme)
+        (max, min) of ``u_f``, ``dr_A_est_upper``, ``dr_A_est_lower``, ``dr_B_est_upper``,
+        ``dr_B_est_lower``, refined to step/1000. [µm]
+    """
+
+    processed: ProcessedRecord
+    theta_rad: FloatArray
+    u_f_um: FloatArray
+    upper: InverseEstimate
+    lower: InverseEstimate
+    extremes: dict[str, tuple[Extreme, Extreme]]
+
+    def curves(self) -> dict[str, FloatArray]:
+        """Return the curves on the analysis grid by name (µm), as in :attr:`extremes`."""
+        return _estimate_curves(self.u_f_um, self.upper, self.lower)
+
+
+def _estimate_curves(
+    u_f: FloatArray, upper: InverseEstimate, lower: InverseEstimate
+) -> dict[str, FloatArray]:
+    return {
+        "u_f": np.asarray(u_f, dtype=float),
+        "dr_A_est_upper": upper.dr_a_est_um,
+        "dr_A_est_lower": lower.dr_a_est_um,
+        "dr_B_est_upper": upper.dr_b_est_um,
+        "dr_B_est_lower": lower.dr_b_est_um,
+    }
+
+
+def record_estimates(
+    design: CamDesign, spec: FixtureSpec, processed: ProcessedRecord, theta_rad: ArrayLike
+) -> RecordEstimates:
+    """Upper and lower worst-case estimates of Δr_A,est, Δr_B,est (THEORY §4.2, §4.4).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The conjugate design.
+    spec : FixtureSpec
+        Constant errors and master cams (its ``df_mea`` is not used).
+    processed : ProcessedRecord
+        The processed record: Δf_mea and u_f.
+    theta_rad : array_like
+        Uniform analysis grid over [0, 2π) (without the end point), e.g.
+        ``FixtureInspection.theta_rad``. [rad]
+
+    Returns
+    -------
+    RecordEstimates
+        The inverse analysis (CW11 eqs. 19-21) at Δf_mea + u_f (``upper``) and at
+        Δf_mea − u_f (``lower``), and their extremes.
+    """
+    theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
+    up_fn = to_error_function(processed, offset_u_f=1.0)
+    lo_fn = to_error_function(processed, offset_u_f=-1.0)
+    u_fn = ErrorFunction.table(processed.theta_deg, processed.u_f_um, name="u_f")
+
+    def parts(t: FloatArray) -> tuple[FloatArray, InverseEstimate, InverseEstimate]:
+        fac = conjugate_factors(t, design)
+        args = (spec.master_a, spec.master_b, spec.errors)
+        return u_fn(t), inverse_estimate(fac, up_fn, *args), inverse_estimate(fac, lo_fn, *args)
+
+    u_f, upper, lower = parts(theta)
+    step = float(np.degrees(theta[1] - theta[0])) if theta.size > 1 else 0.1
+    extremes = find_extremes(
+        theta,
+        _estimate_curves(u_f, upper, lower),
+        lambda t: _estimate_curves(*parts(t)),
+        step_deg=step,
+    )
+    return RecordEstimates(processed, theta, u_f, upper, lower, extremes)
+
+
+def simulate_record(
+    df_um: Callable[[FloatArray], ArrayLike] | ErrorFunction,
+    *,
+    revolutions: int = 10,
+    samples_per_revolution: int | Sequence[int] = 4500,
+    noise_um: float = 0.5,
+    rng: np.random.Generator | int = 0,
+    sample_rate_hz: float = 5.0,
+    leading_samples: int = 0,
+    trailing_samples: int = 0,
+) -> IndicatorRecord:
+    """Simulate a dial-indicator record of a known Δf(θ) (THEORY §4.4, §8.4).
+
+    Parameters
+    ----------
+    df_um : callable or ErrorFunction
+        The true centre-distance variation: θ [rad] (array) → Δf [µm] (array), e.g. an
+        :class:`~camtol.inspection.fixture.ErrorFunction`.
+    revolutions : int
+        Complete revolutions (the published experiment: 10).
+    samples_per_revolution : int or sequence of int
+        Samples per revolution, one number for all or one per revolution (speed drift
+        between revolutions); 4 rev/h at 5 Hz gives 4500.
+    noise_um : float
+        Standard deviation of the Gaussian reading noise, independent per sample. [µm]
+    rng : numpy.random.Generator or int
+        Random generator, or a seed for :func:`numpy.random.default_rng`.
+    sample_rate_hz : float
+        Sampling rate, for the ``time_s`` column. [Hz]
+    leading_samples : int
+        Samples before the first index mark (the end of a previous revolution).
+    trailing_samples : int
+        Samples after the closing index mark (which starts an incomplete revolution).
+
+    Returns
+    -------
+    IndicatorRecord
+        ``leading_samples`` + the revolutions + the closing mark + ``trailing_samples``;
+        the samples of each revolution at θ = 2π·k/n, the index marks at θ = 0.
+    """
+    if isinstance(revolutions, bool) or not isinstance(revolutions, int) or revolutions < 1:
+        raise DesignError(f"revolutions={revolutions!r} is not allowed; give an integer ≥ 1")
+    counts = (
+        [samples_per_revolution] * revolutions
+        if isinstance(samples_per_revolution, int)
+        else list(samples_per_revolution)
+    )
+    if len(counts) != revolutions or any(
+        isinstance(c, bool) or not isinstance(c, int | np.integer) or c < _MIN_SAMPLES
+        for c in counts
+    ):
+        raise DesignError(
+            f"samples_per_revolution={samples_per_revolution!r} is not allowed; give an"
+            f" integer ≥ {_MIN_SAMPLES} or one per revolution ({revolutions})"
+        )
+    for name, value in (
+        ("leading_samples", leading_samples),
+        ("trailing_samples", trailing_samples),
+    ):
+        if not isinstance(value, int) or value < 0:
+            raise DesignError(f"{name}={value!r} is not allowed; give an integer ≥ 0")
+    if not (math.isfinite(noise_um) and noise_um >= 0):
+        raise DesignError(f"noise_um={noise_um!r} is not allowed; give a number ≥ 0 µm")
+    if not (math.isfinite(sample_rate_hz) and sample_rate_hz > 0):
+        raise DesignError(f"sample_rate_hz={sample_rate_hz!r} is not allowed; give a number > 0")
+    gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+    n_lead, n_trail = leading_samples, trailing_samples + 1  # the closing mark starts it
+    parts = [2 * math.pi * (np.arange(counts[0] - n_lead, counts[0]) / counts[0])]
+    parts += [2 * math.pi * np.arange(c) / c for c in counts]
+    parts.append(2 * math.pi * np.arange(n_trail) / counts[-1])
+    theta = np.concatenate(parts)
+    index = np.zeros(theta.size, dtype=bool)
+    index[n_lead + np.concatenate([[0], np.cumsum(counts)])] = True
+    truth = np.broadcast_to(np.asarray(df_um(theta), dtype=float), theta.shape)
+    df = truth + (gen.normal(0.0, noise_um, theta.size) if noise_um > 0 else 0.0)
+    time_s = np.arange(theta.size) / sample_rate_hz
+    return IndicatorRecord(np.asarray(df, dtype=float), index, time_s, "simulated")
