@@ -9,17 +9,25 @@ design gives a cam speed. :class:`Analysis` records the unit of every quantity.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol import iso286
+from camtol import iso286, jet
 from camtol.design import CamDesign, ResolvedTolerance
-from camtol.errors import ErrorAnalysis, error_analysis
+from camtol.errors import ErrorAnalysis, errors_from_sensitivities
 from camtol.extremes import Extreme, find_extremes
-from camtol.jet import FloatArray
-from camtol.kinematics import Kinematics, analysis_grid, kinematics
+from camtol.jet import FloatArray, Jet, JetLike
+from camtol.kinematics import (
+    Kinematics,
+    analysis_grid,
+    check_velocity_ratio,
+    kinematics,
+    kinematics_from_geometry,
+)
+from camtol.mechanisms.base import Mechanism
 from camtol.motion import LiftTable
 
 __all__ = ["Analysis", "Quantity", "analyse", "max_radius_mm"]
@@ -105,18 +113,18 @@ def _units(design: CamDesign) -> tuple[str, float, str, str, float, float]:
     return unit, scale, f"{unit}/s", f"{unit}/s2", scale * omega, scale * omega**2
 
 
-def max_radius_mm(design: CamDesign, *, step_deg: float = 0.01) -> float:
+def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> float:
     """Maximum radial dimension |O2A| of the theoretical profile (THEORY §3.6). [mm]
 
-    Sampled every ``step_deg`` and refined on a fine grid around the best sample.
+    Sampled every ``step_deg`` and refined like every extreme of :func:`analyse`
+    (:func:`~camtol.extremes.find_extremes`), so both give the same value.
 
     Parameters
     ----------
     design : CamDesign
         The design.
     step_deg : float
-        Sampling step of the first pass; the refinement spans ±``step_deg`` around the
-        largest sample. [deg]
+        Sampling step; the refinement locates the maximum to step/1000 or better. [deg]
 
     Returns
     -------
@@ -124,11 +132,18 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = 0.01) -> float:
         Largest radial dimension of the profile. [mm]
     """
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kin = kinematics(design, theta, left_limit=left, check=False)
-    i = int(np.nanargmax(kin.radius_mm))
-    fine = theta[i] + np.linspace(-1, 1, 2001) * math.radians(step_deg)
-    r = kinematics(design, fine, check=False).radius_mm
-    return float(max(np.nanmax(r), kin.radius_mm[i]))
+    r = kinematics(design, theta, left_limit=left, check=False).radius_mm
+    return _refined_max_radius(design, theta, r, step_deg)
+
+
+def _refined_max_radius(
+    design: CamDesign, theta_rad: FloatArray, radius_mm: FloatArray, step_deg: float
+) -> float:
+    def radius(t: FloatArray) -> dict[str, FloatArray]:
+        return {"radius": kinematics(design, t, check=False).radius_mm}
+
+    top = find_extremes(theta_rad, {"radius": radius_mm}, radius, step_deg=step_deg)["radius"][0]
+    return max(top.value, float(np.nanmax(radius_mm)))
 
 
 def _quantities(
@@ -161,23 +176,39 @@ def _quantities(
     return tuple(q)
 
 
-def _evaluate(
-    design: CamDesign,
-    tolerances: tuple[ResolvedTolerance, ...],
-    theta_rad: FloatArray,
-    left_limit: NDArray[np.bool_] | None = None,
-    *,
-    check: bool = True,
-) -> tuple[Kinematics, ErrorAnalysis, dict[str, FloatArray]]:
-    kin = kinematics(design, theta_rad, left_limit=left_limit, check=check)
-    err = error_analysis(design, tolerances, theta_rad, left_limit=left_limit)
-    unit, scale, _, _, vscale, ascale = _units(design)
+def _engine(
+    design: CamDesign, theta_rad: FloatArray, left_limit: NDArray[np.bool_], *, check: bool
+) -> tuple[Kinematics, dict[str, JetLike]]:
+    """Kinematics and per-unit-deviation sensitivities (jets), the mechanism evaluated once.
+
+    A mechanism with a lean closed form for its sensitivities (flat faces) gets its
+    contact geometry as plain arrays; otherwise one contact evaluation as jets gives both
+    the kinematics (values) and the sensitivities with their θ-derivatives.
+    """
+    mech = design.mechanism
+    motion = design.program.evaluate(theta_rad, left_limit=left_limit)
+    if check:
+        check_velocity_ratio(design, theta_rad, motion)
+    th = Jet.variable(theta_rad)
+    lift = Jet(motion.lift, motion.velocity, motion.acceleration)
+    vel = Jet(motion.velocity, motion.acceleration, motion.jerk)
+    if type(mech).error_sensitivities is Mechanism.error_sensitivities:
+        g = mech.contact(th, lift, vel)
+        sens = mech.sensitivities(g, th)
+    else:
+        g = mech.contact(theta_rad, motion.lift, motion.velocity)
+        sens = mech.error_sensitivities(th, lift, vel)
+    kin = kinematics_from_geometry(design, theta_rad, left_limit, motion, g, check=check)
+    return kin, sens
+
+
+def _curves(
+    design: CamDesign, kin: Kinematics, err: ErrorAnalysis, sens: Mapping[str, JetLike]
+) -> dict[str, FloatArray]:
+    """Every reported quantity on the grid, in its display unit."""
+    _, scale, _, _, vscale, ascale = _units(design)
     deg = 180.0 / math.pi
-    radial = (
-        err.sources["r"].sensitivity
-        if "r" in err.sources
-        else _radial_sensitivity(design, theta_rad, left_limit)
-    )
+    radial = np.asarray(jet.value(sens["r"]), dtype=float) + np.zeros_like(kin.theta_rad)
     curves: dict[str, FloatArray] = {
         "pressure_angle": kin.pressure_angle_rad * deg,
         "shift_angle": kin.shift_angle_rad * deg,
@@ -197,15 +228,21 @@ def _evaluate(
     curves["dV_rms"] = err.rms_velocity * vscale
     curves["dA_worst"] = err.worst_acceleration * ascale
     curves["dA_rms"] = err.rms_acceleration * ascale
-    return kin, err, curves
+    return curves
 
 
-def _radial_sensitivity(
-    design: CamDesign, theta_rad: FloatArray, left_limit: NDArray[np.bool_] | None
-) -> FloatArray:
-    unit_r = ResolvedTolerance("r", 1.0, "mm", "unit")
-    e = error_analysis(design, (unit_r,), theta_rad, left_limit=left_limit)
-    return e.sources["r"].sensitivity
+def _evaluate(
+    design: CamDesign,
+    tolerances: tuple[ResolvedTolerance, ...],
+    theta_rad: FloatArray,
+    left_limit: NDArray[np.bool_] | None = None,
+    *,
+    check: bool = True,
+) -> tuple[Kinematics, ErrorAnalysis, dict[str, FloatArray]]:
+    left = np.zeros(theta_rad.shape, bool) if left_limit is None else left_limit
+    kin, sens = _engine(design, theta_rad, left, check=check)
+    err = errors_from_sensitivities(theta_rad, left, sens, tolerances)
+    return kin, err, _curves(design, kin, err, sens)
 
 
 def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
@@ -238,20 +275,29 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
             " of steps between 1 and 3,600,000 (e.g. 1, 0.5, 0.1, 0.01)"
         )
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    # Check the geometry first so an invalid design fails before anything else.
-    kinematics(design, theta, left_limit=left, check=True)
-    rmax = max_radius_mm(design)
-    tolerances = design.resolve_tolerances(rmax)
-    kin, err, curves = _evaluate(design, tolerances, theta, left, check=False)  # checked above
+    # One evaluation of the engine on the grid; it checks the geometry first, so an
+    # invalid design fails before anything else.
+    kin, sens = _engine(design, theta, left, check=True)
+    # Tolerances from the grid's largest radius, confirmed below with the refined one.
+    tolerances = design.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
+    while True:
+        err = errors_from_sensitivities(theta, left, sens, tolerances)
+        curves = _curves(design, kin, err, sens)
+        keys = [q.key for q in _quantities(design, tolerances)]
+
+        def evaluate(
+            t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances
+        ) -> dict[str, FloatArray]:
+            return _evaluate(design, tols, t, check=False)[2]
+
+        extremes = find_extremes(theta, {k: curves[k] for k in keys}, evaluate, step_deg=step_deg)
+        rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
+        final = design.resolve_tolerances(rmax)
+        if [t.deviation for t in final] == [t.deviation for t in tolerances]:
+            tolerances = final
+            break
+        tolerances = final  # the refined radius moved an IT grade to another size band
     quantities = _quantities(design, tolerances)
-    keys = [q.key for q in quantities]
-
-    def evaluate(t: FloatArray) -> dict[str, FloatArray]:
-        return {
-            k: v for k, v in _evaluate(design, tolerances, t, check=False)[2].items() if k in keys
-        }
-
-    extremes = find_extremes(theta, {k: curves[k] for k in keys}, evaluate, step_deg=step_deg)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)

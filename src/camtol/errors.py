@@ -15,7 +15,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.jet import FloatArray, Jet, JetLike
 
-__all__ = ["ErrorAnalysis", "SourceError", "error_analysis"]
+__all__ = ["ErrorAnalysis", "SourceError", "error_analysis", "errors_from_sensitivities"]
 
 
 @dataclass(frozen=True)
@@ -137,12 +137,45 @@ def error_analysis(
         Jet(motion.lift, motion.velocity, motion.acceleration),
         Jet(motion.velocity, motion.acceleration, motion.jerk),
     )
+    return errors_from_sensitivities(theta, left, sens, tolerances)
+
+
+def errors_from_sensitivities(
+    theta_rad: FloatArray,
+    left_limit: NDArray[np.bool_],
+    sensitivities: Mapping[str, JetLike],
+    tolerances: Sequence[ResolvedTolerance],
+) -> ErrorAnalysis:
+    """Per-source and combined errors from sensitivities already evaluated as jets.
+
+    Lets a caller that evaluated the mechanism once (:func:`camtol.analysis.analyse`)
+    combine its sensitivities without evaluating them again.
+
+    Parameters
+    ----------
+    theta_rad : ndarray
+        Cam angles. [rad]
+    left_limit : ndarray of bool
+        Rows taking left limits at segment boundaries.
+    sensitivities : mapping of str to JetLike
+        ΔS per unit deviation of each source with its θ-derivatives, as returned by
+        :meth:`~camtol.mechanisms.base.Mechanism.error_sensitivities` for jet inputs.
+        [output unit per mm or per rad]
+    tolerances : sequence of ResolvedTolerance
+        Deviations Δp in internal units.
+
+    Returns
+    -------
+    ErrorAnalysis
+        As :func:`error_analysis`.
+    """
+    theta = theta_rad
     sources: dict[str, SourceError] = {}
     for tol in tolerances:
-        s = _as_jet(sens[tol.key], theta)
+        s = _as_jet(sensitivities[tol.key], theta)
         d = tol.deviation
         sources[tol.key] = SourceError(tol.key, d, s.v * d, s.d1 * d, s.d2 * d, s.v)
     w_s, r_s = _combine([e.delta_lift for e in sources.values()], theta)
     w_v, r_v = _combine([e.delta_velocity for e in sources.values()], theta)
     w_a, r_a = _combine([e.delta_acceleration for e in sources.values()], theta)
-    return ErrorAnalysis(theta, left, sources, w_s, w_v, w_a, r_s, r_v, r_a)
+    return ErrorAnalysis(theta, left_limit, sources, w_s, w_v, w_a, r_s, r_v, r_a)
