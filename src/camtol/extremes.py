@@ -68,18 +68,19 @@ class Extreme:
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
     """Index runs [i, j] (inclusive) of True values."""
-    if not np.any(mask):
+    idx = np.flatnonzero(mask)
+    if idx.size == 0:
         return []
-    d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    starts = np.flatnonzero(d == 1)
-    ends = np.flatnonzero(d == -1) - 1
+    breaks = np.flatnonzero(np.diff(idx) > 1)
+    starts = np.concatenate([idx[:1], idx[breaks + 1]])
+    ends = np.concatenate([idx[breaks], idx[-1:]])
     return list(zip(starts.tolist(), ends.tolist(), strict=True))
 
 
 def _plateaus(
-    theta_deg: FloatArray, values: FloatArray, target: float, tol: float, step_deg: float
+    theta_deg: FloatArray, held: NDArray[np.bool_], step_deg: float
 ) -> tuple[tuple[float, float], ...]:
-    runs = _runs(np.abs(values - target) <= tol)
+    runs = _runs(held)
     spans = [(float(theta_deg[i]), float(theta_deg[j])) for i, j in runs]
     # A run reaching the end of the grid continues into one starting at 0° (the grid may
     # or may not hold 360° itself).
@@ -134,15 +135,21 @@ def find_extremes(
     pending: list[tuple[str, ExtremeKind, float, float, tuple[tuple[float, float], ...]]] = []
     centres: dict[float, int] = {}  # window centre [rad] -> window index
     for name, vals in values.items():
-        finite = np.where(np.isfinite(vals), vals, np.nan)
-        scale = float(np.nanmax(np.abs(finite))) if np.any(np.isfinite(finite)) else 0.0
+        v = np.asarray(vals, dtype=float)
+        hi, lo = int(np.argmax(v)), int(np.argmin(v))  # NaN or ±inf would be picked
+        if not (math.isfinite(v[hi]) and math.isfinite(v[lo])):
+            finite = np.isfinite(v)
+            hi = int(np.argmax(np.where(finite, v, -np.inf)))
+            lo = int(np.argmin(np.where(finite, v, np.inf)))
+        top, bottom = float(v[hi]), float(v[lo])
         # Dwell values are equal to rounding; a smooth approach to a dwell is not (a
         # looser tolerance would stretch the reported range by up to ~0.5°).
-        tol = 1e-14 * max(scale, 1e-300)
-        for kind in ("max", "min"):
-            i = int(np.nanargmax(finite) if kind == "max" else np.nanargmin(finite))
-            target = float(finite[i])
-            ranges = _plateaus(theta_deg, finite, target, tol, step_deg)
+        tol = 1e-14 * max(abs(top), abs(bottom), 1e-300)
+        for kind, i, target in (("max", hi, top), ("min", lo, bottom)):
+            held = v >= target - tol if kind == "max" else v <= target + tol
+            ranges: tuple[tuple[float, float], ...] = ()
+            if np.count_nonzero(held) > 1:
+                ranges = _plateaus(theta_deg, held, step_deg)
             if not ranges:
                 centres.setdefault(float(theta_rad[i]), len(centres))
             pending.append((name, kind, target, float(theta_rad[i]), ranges))
