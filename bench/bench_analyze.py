@@ -88,7 +88,9 @@ def main() -> list[Figure]:
             t = best_of(lambda d=design, n=n: analyse(d, step_deg=360.0 / (n - 1)), repeat)
             row.append(t)
             if n in TARGETS_MS:
-                figures.append(Figure(f"analyse {name} @ {n:,} angles", t * 1e3, "ms", TARGETS_MS[n]))
+                figures.append(
+                    Figure(f"analyse {name} @ {n:,} angles", t * 1e3, "ms", TARGETS_MS[n])
+                )
         print(f"{name:<20} {row[0] * 1e3:10.2f} ms {row[1] * 1e3:11.2f} ms {row[2] * 1e3:12.1f} ms")
 
     design = load_example("cw06-translating")

@@ -22,6 +22,7 @@ CORE = [
     "mechanisms",
     "design.py",
     "kinematics.py",
+    "engine.py",
     "errors.py",
     "extremes.py",
     "iso286.py",

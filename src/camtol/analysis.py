@@ -8,29 +8,23 @@ design gives a cam speed. :class:`Analysis` records the unit of every quantity.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from camtol import iso286, jet
+from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
-from camtol.errors import ErrorAnalysis, errors_from_sensitivities
+from camtol.engine import evaluate_engine
+from camtol.errors import ErrorAnalysis, error_analysis, errors_from_sensitivities
 from camtol.extremes import Extreme, find_extremes
-from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import (
-    Kinematics,
-    analysis_grid,
-    check_velocity_ratio,
-    kinematics,
-    kinematics_from_geometry,
-)
-from camtol.mechanisms.base import Mechanism
+from camtol.jet import FloatArray
+from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
 
-__all__ = ["Analysis", "Quantity", "analyse", "max_radius_mm"]
+__all__ = ["Analysis", "Curves", "Quantity", "analyse", "max_radius_mm"]
 
 #: Default analysis grid step. [deg]
 DEFAULT_STEP_DEG = 0.1
@@ -63,8 +57,8 @@ class Analysis:
         Deviations used, with how each was obtained.
     quantities : tuple of Quantity
         Reported quantities, in report order.
-    curves : dict of str to ndarray
-        Every quantity on the grid in its display unit.
+    curves : Curves
+        Every quantity on the grid in its display unit (a mapping computed when read).
     extremes : dict of str to (Extreme, Extreme)
         Global (max, min) of every quantity.
     max_radius_mm : float
@@ -83,7 +77,7 @@ class Analysis:
     errors: ErrorAnalysis
     tolerances: tuple[ResolvedTolerance, ...]
     quantities: tuple[Quantity, ...]
-    curves: dict[str, FloatArray]
+    curves: Curves
     extremes: dict[str, tuple[Extreme, Extreme]]
     max_radius_mm: float
     travel: float
@@ -176,73 +170,126 @@ def _quantities(
     return tuple(q)
 
 
-def _engine(
-    design: CamDesign, theta_rad: FloatArray, left_limit: NDArray[np.bool_], *, check: bool
-) -> tuple[Kinematics, dict[str, JetLike]]:
-    """Kinematics and per-unit-deviation sensitivities (jets), the mechanism evaluated once.
+class Curves(Mapping[str, FloatArray]):
+    """Every reported quantity on the grid in its display unit, computed when read.
 
-    A mechanism with a lean closed form for its sensitivities (flat faces) gets its
-    contact geometry as plain arrays; otherwise one contact evaluation as jets gives both
-    the kinematics (values) and the sensitivities with their θ-derivatives.
+    Nothing is stored but references to the internal-unit results, so a fine grid costs
+    no second copy of every curve; each look-up returns a new array (or the kinematics'
+    own array when no conversion is needed).
     """
-    mech = design.mechanism
-    motion = design.program.evaluate(theta_rad, left_limit=left_limit)
-    if check:
-        check_velocity_ratio(design, theta_rad, motion)
-    th = Jet.variable(theta_rad)
-    lift = Jet(motion.lift, motion.velocity, motion.acceleration)
-    vel = Jet(motion.velocity, motion.acceleration, motion.jerk)
-    if type(mech).error_sensitivities is Mechanism.error_sensitivities:
-        g = mech.contact(th, lift, vel)
-        sens = mech.sensitivities(g, th)
-    else:
-        g = mech.contact(theta_rad, motion.lift, motion.velocity)
-        sens = mech.error_sensitivities(th, lift, vel)
-    kin = kinematics_from_geometry(design, theta_rad, left_limit, motion, g, check=check)
-    return kin, sens
+
+    def __init__(self, design: CamDesign, kin: Kinematics, err: ErrorAnalysis) -> None:
+        self._design, self._kin, self._err = design, kin, err
+        keys = ["pressure_angle", "shift_angle", "radius", "curvature_radius", "radial_factor"]
+        if kin.face_contact_mm is not None:
+            keys.append("face_contact")
+        for key in err.sources:
+            keys += [f"dS_{key}", f"dV_{key}", f"dA_{key}"]
+        keys += ["dS_worst", "dS_rms", "dV_worst", "dV_rms", "dA_worst", "dA_rms"]
+        self._keys = tuple(keys)
+
+    def internal(self, key: str) -> tuple[FloatArray, float]:
+        """(internal-unit array, factor to the display unit) of a quantity.
+
+        Parameters
+        ----------
+        key : str
+            Quantity key, e.g. ``"dS_worst"``.
+
+        Returns
+        -------
+        tuple of (ndarray, float)
+            The curve is ``array * factor``; for a source's ΔS, ΔV, ΔA the array is its
+            sensitivity and the factor includes the deviation (it may be negative).
+        """
+        if key not in self._keys:
+            raise KeyError(key)
+        kin, err = self._kin, self._err
+        _, scale, _, _, vscale, ascale = _units(self._design)
+        deg = 180.0 / math.pi
+        if key == "pressure_angle":
+            return kin.pressure_angle_rad, deg
+        if key == "shift_angle":
+            return kin.shift_angle_rad, deg
+        if key == "radius":
+            return kin.radius_mm, 1.0
+        if key == "curvature_radius":
+            return kin.curvature_radius_mm, 1.0
+        if key == "face_contact":
+            assert kin.face_contact_mm is not None
+            return kin.face_contact_mm, 1.0
+        if key == "radial_factor":
+            radial = self._radial()
+            return radial, 1.0 if self._design.mechanism.output == "translating" else deg
+        prefix, name = key.split("_", 1)
+        order = "SVA".index(prefix[1])
+        factor = (scale, vscale, ascale)[order]
+        if name == "worst":
+            return err.worst(order), factor
+        if name == "rms":
+            return err.rms(order), factor
+        src = err.sources[name]
+        arrays = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)
+        return np.asarray(arrays[order]), factor * src.deviation
+
+    def _radial(self) -> FloatArray:
+        src = self._err.sources.get("r")
+        if src is not None:
+            return src.sensitivity
+        unit_r = ResolvedTolerance("r", 1.0, "mm", "unit")
+        e = error_analysis(
+            self._design, (unit_r,), self._kin.theta_rad, left_limit=self._kin.left_limit
+        )
+        return e.sources["r"].sensitivity
+
+    def __getitem__(self, key: str) -> FloatArray:
+        array, factor = self.internal(key)
+        return array if factor == 1.0 else np.asarray(array * factor)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys)
+
+    def __len__(self) -> int:
+        return len(self._keys)
 
 
-def _curves(
-    design: CamDesign, kin: Kinematics, err: ErrorAnalysis, sens: Mapping[str, JetLike]
-) -> dict[str, FloatArray]:
-    """Every reported quantity on the grid, in its display unit."""
-    _, scale, _, _, vscale, ascale = _units(design)
-    deg = 180.0 / math.pi
-    radial = np.asarray(jet.value(sens["r"]), dtype=float) + np.zeros_like(kin.theta_rad)
-    curves: dict[str, FloatArray] = {
-        "pressure_angle": kin.pressure_angle_rad * deg,
-        "shift_angle": kin.shift_angle_rad * deg,
-        "radius": kin.radius_mm,
-        "curvature_radius": kin.curvature_radius_mm,
-        "radial_factor": radial if design.mechanism.output == "translating" else radial * deg,
-    }
-    if kin.face_contact_mm is not None:
-        curves["face_contact"] = kin.face_contact_mm
-    for key, src in err.sources.items():
-        curves[f"dS_{key}"] = src.delta_lift * scale
-        curves[f"dV_{key}"] = src.delta_velocity * vscale
-        curves[f"dA_{key}"] = src.delta_acceleration * ascale
-    curves["dS_worst"] = err.worst_lift * scale
-    curves["dS_rms"] = err.rms_lift * scale
-    curves["dV_worst"] = err.worst_velocity * vscale
-    curves["dV_rms"] = err.rms_velocity * vscale
-    curves["dA_worst"] = err.worst_acceleration * ascale
-    curves["dA_rms"] = err.rms_acceleration * ascale
-    return curves
-
-
-def _evaluate(
-    design: CamDesign,
-    tolerances: tuple[ResolvedTolerance, ...],
+def _extremes(
+    curves: Curves,
+    keys: list[str],
+    evaluate: Callable[[FloatArray], Curves],
     theta_rad: FloatArray,
-    left_limit: NDArray[np.bool_] | None = None,
-    *,
-    check: bool = True,
-) -> tuple[Kinematics, ErrorAnalysis, dict[str, FloatArray]]:
-    left = np.zeros(theta_rad.shape, bool) if left_limit is None else left_limit
-    kin, sens = _engine(design, theta_rad, left, check=check)
-    err = errors_from_sensitivities(theta_rad, left, sens, tolerances)
-    return kin, err, _curves(design, kin, err, sens)
+    step_deg: float,
+) -> dict[str, tuple[Extreme, Extreme]]:
+    """Extremes of the display curves, found on the internal arrays and then converted."""
+    factors = {k: curves.internal(k)[1] for k in keys}
+
+    def values(c: Curves) -> dict[str, FloatArray]:
+        return {k: c.internal(k)[0] if factors[k] != 0.0 else c[k] for k in keys}
+
+    class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
+        def __getitem__(self, key: str) -> FloatArray:
+            return curves.internal(key)[0] if factors[key] != 0.0 else curves[key]
+
+        def __iter__(self) -> Iterator[str]:
+            return iter(keys)
+
+        def __len__(self) -> int:
+            return len(keys)
+
+    found = find_extremes(theta_rad, _Lazy(), lambda t: values(evaluate(t)), step_deg=step_deg)
+    out = {}
+    for key, (hi, lo) in found.items():
+        f = factors[key]
+        if f == 0.0:
+            out[key] = (hi, lo)
+            continue
+        if f < 0.0:
+            hi, lo = lo, hi
+        out[key] = (
+            dataclasses.replace(hi, kind="max", value=hi.value * f),
+            dataclasses.replace(lo, kind="min", value=lo.value * f),
+        )
+    return out
 
 
 def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
@@ -277,20 +324,19 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     # One evaluation of the engine on the grid; it checks the geometry first, so an
     # invalid design fails before anything else.
-    kin, sens = _engine(design, theta, left, check=True)
+    kin, sens = evaluate_engine(design, theta, left, check=True)
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
     tolerances = design.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
         err = errors_from_sensitivities(theta, left, sens, tolerances)
-        curves = _curves(design, kin, err, sens)
+        curves = Curves(design, kin, err)
         keys = [q.key for q in _quantities(design, tolerances)]
 
-        def evaluate(
-            t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances
-        ) -> dict[str, FloatArray]:
-            return _evaluate(design, tols, t, check=False)[2]
+        def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
+            k, s = evaluate_engine(design, t, check=False)
+            return Curves(design, k, errors_from_sensitivities(t, k.left_limit, s, tols))
 
-        extremes = find_extremes(theta, {k: curves[k] for k in keys}, evaluate, step_deg=step_deg)
+        extremes = _extremes(curves, keys, evaluate, theta, step_deg)
         rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
         final = design.resolve_tolerances(rmax)
         if [t.deviation for t in final] == [t.deviation for t in tolerances]:
@@ -298,6 +344,8 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
             break
         tolerances = final  # the refined radius moved an IT grade to another size band
     quantities = _quantities(design, tolerances)
+    err = errors_from_sensitivities(theta, left, sens, tolerances)
+    curves = Curves(design, kin, err)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)

@@ -78,10 +78,10 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
 
 
 def _plateaus(
-    theta_deg: FloatArray, held: NDArray[np.bool_], step_deg: float
+    theta_rad: FloatArray, held: NDArray[np.bool_], step_deg: float
 ) -> tuple[tuple[float, float], ...]:
     runs = _runs(held)
-    spans = [(float(theta_deg[i]), float(theta_deg[j])) for i, j in runs]
+    spans = [(math.degrees(theta_rad[i]), math.degrees(theta_rad[j])) for i, j in runs]
     # A run reaching the end of the grid continues into one starting at 0° (the grid may
     # or may not hold 360° itself).
     wraps = spans and spans[0][0] <= 1e-9 and spans[-1][1] >= 360.0 - 1.5 * step_deg
@@ -130,7 +130,6 @@ def find_extremes(
     dict
         ``{quantity: (max, min)}``.
     """
-    theta_deg = np.degrees(theta_rad)
     step = math.radians(step_deg)
     pending: list[tuple[str, ExtremeKind, float, float, tuple[tuple[float, float], ...]]] = []
     centres: dict[float, int] = {}  # window centre [rad] -> window index
@@ -145,11 +144,15 @@ def find_extremes(
         # Dwell values are equal to rounding; a smooth approach to a dwell is not (a
         # looser tolerance would stretch the reported range by up to ~0.5°).
         tol = 1e-14 * max(abs(top), abs(bottom), 1e-300)
-        for kind, i, target in (("max", hi, top), ("min", lo, bottom)):
+        extremes: tuple[tuple[ExtremeKind, int, float], ...] = (
+            ("max", hi, top),
+            ("min", lo, bottom),
+        )
+        for kind, i, target in extremes:
             held = v >= target - tol if kind == "max" else v <= target + tol
             ranges: tuple[tuple[float, float], ...] = ()
             if np.count_nonzero(held) > 1:
-                ranges = _plateaus(theta_deg, held, step_deg)
+                ranges = _plateaus(theta_rad, held, step_deg)
             if not ranges:
                 centres.setdefault(float(theta_rad[i]), len(centres))
             pending.append((name, kind, target, float(theta_rad[i]), ranges))
@@ -160,22 +163,21 @@ def find_extremes(
     for name, kind, _, theta_i, ranges in pending:
         if ranges:
             continue
-        t, v, smooth = coarse.best(name, kind, centres[theta_i])
-        found[name, kind] = (t, v, smooth)
-        if not smooth:
-            retry.setdefault(t, len(retry))
+        found[name, kind] = coarse.best(name, kind, centres[theta_i])
+        if not found[name, kind][2]:
+            retry.setdefault(found[name, kind][0], len(retry))
     fine = _Windows(np.array(list(retry)), step / _FINE**3, _FINE**2, evaluate, names)
     out: dict[str, dict[str, Extreme]] = {}
     for name, kind, target, theta_i, ranges in pending:
         if ranges:
             ext = Extreme(name, kind, target, ranges[0][0], ranges)
         else:
-            t, v, smooth = found[name, kind]
+            t_best, v_best, smooth = found[name, kind]
             if not smooth:
-                t, v, _ = fine.best(name, kind, retry[t])
-            better = v > target if kind == "max" else v < target
+                t_best, v_best, _ = fine.best(name, kind, retry[t_best])
+            better = v_best > target if kind == "max" else v_best < target
             if better:
-                ext = Extreme(name, kind, v, math.degrees(t) % 360.0)
+                ext = Extreme(name, kind, v_best, math.degrees(t_best) % 360.0)
             else:  # a one-sided limit at a jump, or the grid already holds the extreme
                 ext = Extreme(name, kind, target, math.degrees(theta_i) % 360.0)
         out.setdefault(name, {})[kind] = ext

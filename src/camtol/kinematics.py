@@ -27,7 +27,6 @@ __all__ = [
     "check_velocity_ratio",
     "contact_jets",
     "kinematics",
-    "kinematics_from_geometry",
     "to_jet",
 ]
 
@@ -195,8 +194,34 @@ def kinematics(
     motion = design.program.evaluate(theta, left_limit=left)
     if check:
         check_velocity_ratio(design, theta, motion)
-    g = design.mechanism.contact(theta, motion.lift, motion.velocity)
-    return kinematics_from_geometry(design, theta, left, motion, g, check=check)
+    mech = design.mechanism
+    g = mech.contact(theta, motion.lift, motion.velocity)
+    rho = mech.curvature_radius(theta, motion.lift, motion.velocity, motion.acceleration)
+    ax, ay = _val(g.contact_x), _val(g.contact_y)
+    kin = Kinematics(
+        theta_rad=theta,
+        left_limit=left,
+        lift=motion.lift,
+        velocity=motion.velocity,
+        acceleration=motion.acceleration,
+        jerk=motion.jerk,
+        contact_x_mm=ax,
+        contact_y_mm=ay,
+        radius_mm=np.hypot(ax, ay),
+        centre_x_mm=_val(g.centre_x),
+        centre_y_mm=_val(g.centre_y),
+        q_mm=_val(g.q),
+        pressure_angle_rad=_val(g.pressure_angle) + np.zeros_like(theta),
+        shift_angle_rad=_val(g.shift_angle),
+        curvature_radius_mm=rho,
+        face_contact_mm=_val(g.extras["face_contact"]) if "face_contact" in g.extras else None,
+        follower_angle_rad=(
+            _val(g.extras["follower_angle"]) if "follower_angle" in g.extras else None
+        ),
+    )
+    if check:
+        check_geometry(design, kin)
+    return kin
 
 
 def check_velocity_ratio(design: CamDesign, theta_rad: FloatArray, motion: MotionState) -> None:
@@ -223,75 +248,6 @@ def check_velocity_ratio(design: CamDesign, theta_rad: FloatArray, motion: Motio
             f" θ={math.degrees(theta_rad[i]):.2f}°; an oscillating follower needs V < 1"
             " everywhere (slow the motion: longer segments or a smaller swing)"
         )
-
-
-def kinematics_from_geometry(
-    design: CamDesign,
-    theta_rad: FloatArray,
-    left_limit: NDArray[np.bool_],
-    motion: MotionState,
-    geometry: ContactGeometry,
-    *,
-    check: bool = True,
-) -> Kinematics:
-    """Assemble :class:`Kinematics` from an evaluated motion and contact geometry.
-
-    Lets a caller that needs the contact geometry as jets anyway (the error analysis of
-    :func:`camtol.analysis.analyse`) evaluate it once for both.
-
-    Parameters
-    ----------
-    design : CamDesign
-        The design.
-    theta_rad : ndarray
-        Cam angles. [rad]
-    left_limit : ndarray of bool
-        Rows that take the left limit at a segment boundary.
-    motion : MotionState
-        The design's motion at ``theta_rad``. [mm or rad, per rad^k]
-    geometry : ContactGeometry
-        ``design.mechanism.contact`` at these angles, arrays or jets (values are used).
-        [mm, rad]
-    check : bool
-        Raise if the geometry cannot work (see :func:`check_geometry`).
-
-    Returns
-    -------
-    Kinematics
-        The kinematics on the grid.
-    """
-    g = geometry
-    rho = design.mechanism.curvature_radius(
-        theta_rad, motion.lift, motion.velocity, motion.acceleration
-    )
-    ax, ay = _val(g.contact_x), _val(g.contact_y)
-    pressure = _val(g.pressure_angle)
-    kin = Kinematics(
-        theta_rad=theta_rad,
-        left_limit=left_limit,
-        lift=motion.lift,
-        velocity=motion.velocity,
-        acceleration=motion.acceleration,
-        jerk=motion.jerk,
-        contact_x_mm=ax,
-        contact_y_mm=ay,
-        radius_mm=np.hypot(ax, ay),
-        centre_x_mm=_val(g.centre_x),
-        centre_y_mm=_val(g.centre_y),
-        q_mm=_val(g.q),
-        pressure_angle_rad=(
-            pressure if pressure.shape == theta_rad.shape else pressure + np.zeros_like(theta_rad)
-        ),
-        shift_angle_rad=_val(g.shift_angle),
-        curvature_radius_mm=rho,
-        face_contact_mm=_val(g.extras["face_contact"]) if "face_contact" in g.extras else None,
-        follower_angle_rad=(
-            _val(g.extras["follower_angle"]) if "follower_angle" in g.extras else None
-        ),
-    )
-    if check:
-        check_geometry(design, kin)
-    return kin
 
 
 def check_geometry(design: CamDesign, kin: Kinematics) -> None:
