@@ -18,7 +18,7 @@ import numpy as np
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.engine import evaluate_engine
-from camtol.errors import ErrorAnalysis, error_analysis, errors_from_sensitivities
+from camtol.errors import ErrorAnalysis, errors_from_sensitivities
 from camtol.extremes import Extreme, find_extremes
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
@@ -178,8 +178,10 @@ class Curves(Mapping[str, FloatArray]):
     own array when no conversion is needed).
     """
 
-    def __init__(self, design: CamDesign, kin: Kinematics, err: ErrorAnalysis) -> None:
-        self._design, self._kin, self._err = design, kin, err
+    def __init__(
+        self, design: CamDesign, kin: Kinematics, err: ErrorAnalysis, radial: FloatArray
+    ) -> None:
+        self._design, self._kin, self._err, self._radial = design, kin, err, radial
         keys = ["pressure_angle", "shift_angle", "radius", "curvature_radius", "radial_factor"]
         if kin.face_contact_mm is not None:
             keys.append("face_contact")
@@ -202,45 +204,61 @@ class Curves(Mapping[str, FloatArray]):
             The curve is ``array * factor``; for a source's ΔS, ΔV, ΔA the array is its
             sensitivity and the factor includes the deviation (it may be negative).
         """
+        return self._array(key), self.factor(key)
+
+    def factor(self, key: str) -> float:
+        """Factor from the internal array of :meth:`internal` to the display unit.
+
+        Parameters
+        ----------
+        key : str
+            Quantity key.
+
+        Returns
+        -------
+        float
+            Display value = internal value × factor. [display unit per internal unit]
+        """
+        if key not in self._keys:
+            raise KeyError(key)
+        deg = 180.0 / math.pi
+        if key in ("pressure_angle", "shift_angle"):
+            return deg
+        if key in ("radius", "curvature_radius", "face_contact"):
+            return 1.0
+        if key == "radial_factor":
+            return 1.0 if self._design.mechanism.output == "translating" else deg
+        _, scale, _, _, vscale, ascale = _units(self._design)
+        prefix, name = key.split("_", 1)
+        factor = (scale, vscale, ascale)["SVA".index(prefix[1])]
+        if name in ("worst", "rms"):
+            return factor
+        return factor * self._err.sources[name].deviation
+
+    def _array(self, key: str) -> FloatArray:
         if key not in self._keys:
             raise KeyError(key)
         kin, err = self._kin, self._err
-        _, scale, _, _, vscale, ascale = _units(self._design)
-        deg = 180.0 / math.pi
-        if key == "pressure_angle":
-            return kin.pressure_angle_rad, deg
-        if key == "shift_angle":
-            return kin.shift_angle_rad, deg
-        if key == "radius":
-            return kin.radius_mm, 1.0
-        if key == "curvature_radius":
-            return kin.curvature_radius_mm, 1.0
-        if key == "face_contact":
-            assert kin.face_contact_mm is not None
-            return kin.face_contact_mm, 1.0
-        if key == "radial_factor":
-            radial = self._radial()
-            return radial, 1.0 if self._design.mechanism.output == "translating" else deg
+        fixed = {
+            "pressure_angle": kin.pressure_angle_rad,
+            "shift_angle": kin.shift_angle_rad,
+            "radius": kin.radius_mm,
+            "curvature_radius": kin.curvature_radius_mm,
+            "face_contact": kin.face_contact_mm,
+            "radial_factor": self._radial,
+        }
+        if key in fixed:
+            out = fixed[key]
+            assert out is not None
+            return out
         prefix, name = key.split("_", 1)
         order = "SVA".index(prefix[1])
-        factor = (scale, vscale, ascale)[order]
         if name == "worst":
-            return err.worst(order), factor
+            return err.worst(order)
         if name == "rms":
-            return err.rms(order), factor
+            return err.rms(order)
         src = err.sources[name]
-        arrays = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)
-        return np.asarray(arrays[order]), factor * src.deviation
-
-    def _radial(self) -> FloatArray:
-        src = self._err.sources.get("r")
-        if src is not None:
-            return src.sensitivity
-        unit_r = ResolvedTolerance("r", 1.0, "mm", "unit")
-        e = error_analysis(
-            self._design, (unit_r,), self._kin.theta_rad, left_limit=self._kin.left_limit
-        )
-        return e.sources["r"].sensitivity
+        return np.asarray((src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order])
 
     def __getitem__(self, key: str) -> FloatArray:
         array, factor = self.internal(key)
@@ -261,14 +279,14 @@ def _extremes(
     step_deg: float,
 ) -> dict[str, tuple[Extreme, Extreme]]:
     """Extremes of the display curves, found on the internal arrays and then converted."""
-    factors = {k: curves.internal(k)[1] for k in keys}
+    factors = {k: curves.factor(k) for k in keys}
 
     def values(c: Curves) -> dict[str, FloatArray]:
-        return {k: c.internal(k)[0] if factors[k] != 0.0 else c[k] for k in keys}
+        return {k: c._array(k) if factors[k] != 0.0 else c[k] for k in keys}
 
     class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
         def __getitem__(self, key: str) -> FloatArray:
-            return curves.internal(key)[0] if factors[key] != 0.0 else curves[key]
+            return curves._array(key) if factors[key] != 0.0 else curves[key]
 
         def __iter__(self) -> Iterator[str]:
             return iter(keys)
@@ -329,12 +347,13 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     tolerances = design.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
         err = errors_from_sensitivities(theta, left, sens, tolerances)
-        curves = Curves(design, kin, err)
+        curves = Curves(design, kin, err, sens["r"].v)
         keys = [q.key for q in _quantities(design, tolerances)]
 
         def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
             k, s = evaluate_engine(design, t, check=False)
-            return Curves(design, k, errors_from_sensitivities(t, k.left_limit, s, tols))
+            e = errors_from_sensitivities(t, k.left_limit, s, tols)
+            return Curves(design, k, e, s["r"].v)
 
         extremes = _extremes(curves, keys, evaluate, theta, step_deg)
         rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
@@ -345,7 +364,7 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         tolerances = final  # the refined radius moved an IT grade to another size band
     quantities = _quantities(design, tolerances)
     err = errors_from_sensitivities(theta, left, sens, tolerances)
-    curves = Curves(design, kin, err)
+    curves = Curves(design, kin, err, sens["r"].v)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)

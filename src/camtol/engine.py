@@ -66,6 +66,9 @@ class _Columns:
                 if (first or self._const[key] == c) and bool(np.all(v == c)):
                     self._const[key] = c
                     return
+            if first and where.stop >= self.n and v.shape == (self.n,):
+                self._full[key] = v  # a single chunk: keep the array itself
+                return
             out = self._full[key] = np.empty(self.n)
             if key in self._const:
                 out[: where.start] = self._const.pop(key)

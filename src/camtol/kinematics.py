@@ -106,11 +106,10 @@ def analysis_grid(
     idx = np.clip(idx, 0, theta.size - 1)
     near = np.abs(theta[idx] - b) < 1e-9
     theta[idx[near]] = b[near]
-    full = np.concatenate([theta, b])
-    left = np.concatenate([np.zeros(theta.size, bool), np.ones(b.size, bool)])
-    # Left limits sort just before the right-limit row at the same angle.
-    order = np.lexsort((~left, full))
-    return full[order], left[order]
+    # Left limits go just before the right-limit row at the same angle (b is sorted, so
+    # inserting at the left insertion points keeps the grid non-decreasing).
+    at = np.searchsorted(theta, b, side="left")
+    return np.insert(theta, at, b), np.insert(np.zeros(theta.size, bool), at, True)
 
 
 def to_jet(x: FloatArray, d1: FloatArray, d2: FloatArray) -> Jet:
