@@ -59,7 +59,7 @@ def check_step(
     """
     if isinstance(step_deg, bool) or not isinstance(step_deg, int | float):
         raise DesignError(
-            f"{name}={step_deg!r} is not allowed; give a number of degrees that divides 360°"
+            f"{name}={step_deg!r} is not allowed; give a number of degrees that can divide 360°"
         )
     coarsest = 360.0 / min_points
     finest = 360.0 / max_points
