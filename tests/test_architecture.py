@@ -26,6 +26,9 @@ CORE = [
     "extremes.py",
     "iso286.py",
     "analysis.py",
+    "sizing.py",
+    "tables.py",
+    "grid.py",
     "contact",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
