@@ -1,6 +1,7 @@
 """The documentation's worked examples run, and say what camtol really prints.
 
-Every page of ``docs/examples/`` and ``docs/getting-started.md`` is executed top to bottom
+Every worked example (``docs/examples/*.md``), the home page and ``docs/getting-started.md``
+are executed top to bottom
 in a fresh temporary directory, the way a reader would follow it:
 
 - a fenced block with a ``title="NAME"`` (e.g. ```` ```toml title="my-cam.toml" ````) is
@@ -29,7 +30,11 @@ from pathlib import Path
 import pytest
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
-PAGES = sorted((DOCS / "examples").glob("*.md")) + [DOCS / "getting-started.md"]
+PAGES = [
+    DOCS / "index.md",
+    DOCS / "getting-started.md",
+    *sorted(p for p in (DOCS / "examples").glob("*.md") if p.name != "index.md"),
+]
 
 _FENCE = re.compile(
     r"^(?P<indent>[ ]*)```(?P<info>[^\n]*)\n(?P<body>.*?)^(?P=indent)```[ ]*$",
