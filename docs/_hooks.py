@@ -8,6 +8,7 @@ the slot needs no placeholder page; once the file exists it appears where the na
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -36,3 +37,21 @@ def on_config(config: Any) -> Any:
     if config.nav is not None:
         config.nav = _keep(config.nav, Path(config.docs_dir)) or []
     return config
+
+
+# Docstrings are numpydoc with a few reStructuredText constructs (roles such as
+# :func:`x`, ``.. math::``) that Markdown shows literally. Render them for the site: a
+# role becomes an optional cross-reference (a link when camtol documents the object, plain
+# code otherwise), and the ``.. math::`` marker is dropped (the formula stays as code).
+_ROLE = re.compile(r":(?:func|class|meth|mod|data|attr|exc|obj):<code>~?([\w.]+)</code>")
+_MATH = re.compile(r"<p>\.\. math::</p>\s*")
+
+
+def _role(match: re.Match[str]) -> str:
+    target = match.group(1)
+    return f'<autoref identifier="{target}" optional><code>{target}</code></autoref>'
+
+
+def on_page_content(html: str, **kwargs: Any) -> str:
+    """Render the reStructuredText roles and math markers left in docstrings."""
+    return _MATH.sub("", _ROLE.sub(_role, html))
