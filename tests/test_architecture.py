@@ -21,6 +21,7 @@ CORE = [
     "motion.py",
     "mechanisms",
     "design.py",
+    "sources.py",
     "kinematics.py",
     "errors.py",
     "extremes.py",
