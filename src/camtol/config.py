@@ -41,7 +41,6 @@ Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillat
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Mapping
 from pathlib import Path
@@ -55,7 +54,7 @@ from camtol.examples import example_names as example_names
 from camtol.examples import example_summary as example_summary
 from camtol.examples import example_text as example_text
 from camtol.examples import parse_toml as _parse_toml
-from camtol.exceptions import ConfigError, DesignError
+from camtol.exceptions import ConfigError, DesignError, InputFileError
 from camtol.mechanisms import FlatOscillating, FlatTranslating, Mechanism
 from camtol.motion import (
     MOTION_LAWS,
@@ -65,6 +64,8 @@ from camtol.motion import (
     SegmentProgram,
     table_resolution,
 )
+from camtol.sources import DESIGN_SOURCES
+from camtol.tables import read_table
 
 __all__ = [
     "FOLLOWER_SCHEMAS",
@@ -323,38 +324,23 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
 
 
 def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndarray[Any, Any]]:
-    try:
-        with path.open(newline="") as fh:
-            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
-    except OSError as exc:
-        raise ConfigError(
-            f"motion.table_file={str(path)!r} cannot be read: {exc.strerror}"
-        ) from None
-    if not rows:
-        raise ConfigError(f"motion.table_file={str(path)!r} is empty")
-    header = [h.strip() for h in rows[0]]
     col = f"lift_{unit}"
-    if "theta_deg" not in header or col not in header:
-        raise ConfigError(
-            f"motion.table_file={str(path)!r} needs the columns theta_deg and {col}; found"
-            f" {', '.join(header)}"
-        )
-    it, il = header.index("theta_deg"), header.index(col)
     try:
-        data = np.array([[float(r[it]), float(r[il])] for r in rows[1:]])
-    except (ValueError, IndexError):
-        raise ConfigError(f"motion.table_file={str(path)!r} has a non-numeric row") from None
-    if data.size == 0:
-        raise ConfigError(f"motion.table_file={str(path)!r} has no data rows")
-    if abs(data[-1, 0] - 360.0) < 1e-9:  # a closing 360° row repeats 0°
-        data = data[:-1]
-    return data[:, 0], data[:, 1]
+        table = read_table(path, required=["theta_deg", col], what="lift table")
+    except InputFileError as exc:
+        detail = str(exc).removeprefix(str(path)).lstrip(":, ")
+        raise ConfigError(f"motion.table_file={str(path)!r} {detail}") from None
+    theta, lift = table.column("theta_deg"), table.column(col)
+    if theta.size > 1 and abs(theta[-1] - 360.0) < 1e-9:  # a closing 360° row repeats 0°
+        theta, lift = theta[:-1], lift[:-1]
+    return theta, lift
 
 
 def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec, ...]:
     specs = []
     seen: set[str] = set()
     units = {s.key: s.unit for s in mech.sources}
+    units.update({k: d.source.unit for k, d in DESIGN_SOURCES.items()})
     allowed = ", ".join(
         f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}" for k, u in units.items()
     )

@@ -26,6 +26,7 @@ from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.kinematics import Kinematics, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import Mechanism
+from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["CHUNK", "evaluate_engine"]
 
@@ -119,7 +120,8 @@ def evaluate_engine(
     kinematics : Kinematics
         As :func:`camtol.kinematics.kinematics` returns it.
     sensitivities : dict of str to Jet
-        ∂S/∂p of every source of the mechanism with its θ-derivatives; a constant
+        ∂S/∂p of every source of the mechanism, and of every design-level source
+        (:mod:`camtol.sources`) the design tolerances, with its θ-derivatives; a constant
         sensitivity has broadcast (read-only) zero derivatives. [output unit per mm or
         per rad, per rad^k]
 
@@ -135,6 +137,8 @@ def evaluate_engine(
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
+    own = {src.key for src in mech.sources}
+    design_keys = [t.key for t in design.tolerances if t.key not in own and t.key in DESIGN_SOURCES]
     n = theta.size
     geo, sens = _Columns(n), _Columns(n)
     plain: set[str] = set()
@@ -146,10 +150,12 @@ def evaluate_engine(
         th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
         if shared:
             g = mech.contact(th, lift, vel)
-            sources = mech.sensitivities(g, th)
+            sources = dict(mech.sensitivities(g, th))
         else:
             g = mech.contact(t, s, v)
-            sources = mech.error_sensitivities(th, lift, vel)
+            sources = dict(mech.error_sensitivities(th, lift, vel))
+        for key in design_keys:  # design-level sources the design tolerances
+            sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         q_is_velocity = g.q is v
         for key in _GEOMETRY:
             if not (key == "q" and q_is_velocity):
