@@ -7,7 +7,6 @@ passes, 1 when one fails, 2 on bad input.
 from __future__ import annotations
 
 import json
-import math
 
 import click
 
@@ -17,7 +16,6 @@ from camtol.cli import (
     _Exit,
     _json_default,
     design_options,
-    fail,
     load_input,
     run_guarded,
 )
@@ -111,14 +109,10 @@ def verify(
     """
 
     def body() -> int:
+        from camtol.grid import check_step
         from camtol.verify import verify as run
 
-        n = 360.0 / step_deg if step_deg > 0 else math.inf
-        if not (math.isfinite(n) and abs(n - round(n)) < 1e-6 and 4 <= round(n) <= 360_000):
-            fail(
-                f"--step={step_deg:g} is not allowed; it must divide 360° into a whole number"
-                " of steps between 4 and 360,000 (e.g. 1, 0.5, 0.1)"
-            )
+        check_step(step_deg, name="--step", min_points=4, max_points=360_000)
         result = run(load_input(design, example), step_deg=step_deg, polyline=not no_polyline)
         if as_json:
             click.echo(json.dumps(result.to_dict(), indent=2, default=_json_default))
