@@ -39,6 +39,7 @@ import numpy as np
 
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
+from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.motion import LiftTable
 from camtol.table_noise import second_difference_gain, spline_acceleration_gain
@@ -135,12 +136,7 @@ def _central(y: FloatArray, step: float) -> tuple[FloatArray, FloatArray]:
 
 
 def _check(table_step_deg: float, decimals: Sequence[int], budget: float | None) -> int:
-    n = round(360.0 / table_step_deg) if table_step_deg > 0 else 0
-    if not (math.isfinite(table_step_deg) and n >= 8 and abs(n * table_step_deg - 360.0) < 1e-9):
-        raise DesignError(
-            f"table_step_deg={table_step_deg:g} is not allowed; it must divide 360° into at"
-            " least 8 equal steps (e.g. 0.5, 1, 2)"
-        )
+    n = check_step(table_step_deg, name="table_step_deg", min_points=8)
     if not decimals or any(not (0 <= int(d) <= 12) or int(d) != d for d in decimals):
         raise DesignError(
             f"decimals={list(decimals)} is not allowed; give whole numbers between 0 and 12"
