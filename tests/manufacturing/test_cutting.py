@@ -8,31 +8,13 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from camtol.config import design_from_mapping, example_names, load_example
-from camtol.design import CamDesign
+from camtol.config import example_names, load_example
 from camtol.exceptions import DesignError, GeometryError, UndercutError
 from camtol.manufacturing.cutting import coarsest_cut_step, cut_cam, simulate_cut
 from camtol.manufacturing.toolpath import single_cams
+from manufacturing_designs import concave_roller_design
 
 R_MM = 30.0  # Popa's circle
-
-
-def concave_roller_design() -> CamDesign:
-    """Roller follower whose profile is concave (ρ ≈ −16.9 mm near θ = 230.6°)."""
-    segs = [
-        {"kind": "rise", "law": "cycloidal", "start_deg": 0, "end_deg": 60, "lift_mm": 20.0},
-        {"kind": "dwell", "end_deg": 180},
-        {"kind": "return", "law": "cycloidal", "end_deg": 240, "lift_mm": 20.0},
-        {"kind": "dwell", "end_deg": 360},
-    ]
-    return design_from_mapping(
-        {
-            "name": "concave-roller",
-            "follower": {"type": "roller_translating", "base_radius_mm": 20.0,
-                         "roller_radius_mm": 5.0, "offset_mm": 0.0},  # fmt: skip
-            "motion": {"segments": segs},
-        }
-    )
 
 
 @pytest.mark.parametrize("step_deg", [1.0, 2.0, 5.0, 10.0])
