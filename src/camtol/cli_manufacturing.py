@@ -370,7 +370,9 @@ def cut(
 @click.option(
     "--noise-deg", type=float, default=None, help="Known rms lift noise [deg] (lift_deg files)."
 )
-@click.option("--output", "-o", "output", default=None, metavar="FILE.csv", help="Write S, V, A, J.")
+@click.option(
+    "--output", "-o", "output", default=None, metavar="FILE.csv", help="Write S, V, A, J."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def derive(
     lift_csv: str,
@@ -419,7 +421,9 @@ def derive(
         if theta.size > 1 and abs(theta[-1] - 360.0) < 1e-9:
             theta, lift = theta[:-1], lift[:-1]
         kind: Any = method
-        res = derive_lift(theta, lift, method=kind, smoothing=smoothing, noise=noise, source=lift_csv)
+        res = derive_lift(
+            theta, lift, method=kind, smoothing=smoothing, noise=noise, source=lift_csv
+        )
         # Gains per µm of lift noise (mm files) or per 0.001° (deg files).
         per = 1e-3
         g = res.gains

@@ -17,8 +17,12 @@ def concave_roller_design() -> CamDesign:
     return design_from_mapping(
         {
             "name": "concave-roller",
-            "follower": {"type": "roller_translating", "base_radius_mm": 20.0,
-                         "roller_radius_mm": 5.0, "offset_mm": 0.0},  # fmt: skip
+            "follower": {
+                "type": "roller_translating",
+                "base_radius_mm": 20.0,
+                "roller_radius_mm": 5.0,
+                "offset_mm": 0.0,
+            },  # fmt: skip
             "motion": {"segments": segs},
         }
     )

@@ -135,13 +135,24 @@ def test_bad_input_one_line_exit_2(
     assert list(tmp_path.iterdir()) == []
 
 
-def test_gouging_tool_exit_2_and_says_where(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_gouging_tool_exit_2_and_says_where(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     from manufacturing_designs import CONCAVE_ROLLER_TOML
 
     design = tmp_path / "concave.toml"
     design.write_text(CONCAVE_ROLLER_TOML)
     curves = tmp_path / "c.csv"
-    args = ["cut", str(design), "--tool", "cylinder", "--tool-radius", "20", "--curves", str(curves)]
+    args = [
+        "cut",
+        str(design),
+        "--tool",
+        "cylinder",
+        "--tool-radius",
+        "20",
+        "--curves",
+        str(curves),
+    ]
     assert main(args) == 2
     err = capsys.readouterr().err
     assert "gouge" in err and "θ=23" in err and err.count("\n") == 1

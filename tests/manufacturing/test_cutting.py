@@ -6,13 +6,13 @@ import math
 
 import numpy as np
 import pytest
+from manufacturing_designs import concave_roller_design
 from numpy.testing import assert_allclose
 
 from camtol.config import example_names, load_example
 from camtol.exceptions import DesignError, GeometryError, UndercutError
 from camtol.manufacturing.cutting import coarsest_cut_step, cut_cam, simulate_cut
 from camtol.manufacturing.toolpath import single_cams
-from manufacturing_designs import concave_roller_design
 
 R_MM = 30.0  # Popa's circle
 
@@ -80,7 +80,11 @@ def test_large_cylinder_tends_to_the_flat_tool() -> None:
     d = load_example("cw06-translating")
     flat = simulate_cut(d, 2.0).lift_error
     gaps = [
-        float(np.max(np.abs(simulate_cut(d, 2.0, tool="cylinder", tool_radius_mm=r).lift_error - flat)))
+        float(
+            np.max(
+                np.abs(simulate_cut(d, 2.0, tool="cylinder", tool_radius_mm=r).lift_error - flat)
+            )
+        )
         for r in (1e3, 1e4, 1e5)
     ]
     assert gaps[2] < 2e-5  # mm, at R = 100 m

@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 import pytest
+from manufacturing_designs import concave_roller_design
 
 from camtol.config import load_example
 from camtol.exceptions import DesignError, UndercutError
 from camtol.manufacturing.gcode import GcodePath, path_deviation, read_gcode, write_gcode
 from camtol.manufacturing.toolpath import single_cams
-from manufacturing_designs import concave_roller_design
 
 
 @pytest.mark.parametrize("mode", ["arcs", "lines"])

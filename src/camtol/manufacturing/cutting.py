@@ -218,7 +218,7 @@ def cut_cam(
     n = check_step(cut_step_deg, name="--cut-step", min_points=3)
     _check_tool(tool, tool_radius_mm)
     step = TWO_PI / n
-    theta = np.arange(n) * step
+    theta = np.arange(n, dtype=float) * step
     p = profile_path(design, theta)
     nx, ny = p.normal_x, p.normal_y
     turn = np.mod(np.arctan2(np.roll(ny, -1), np.roll(nx, -1)) - np.arctan2(ny, nx), TWO_PI)
@@ -333,7 +333,7 @@ def simulate_cut(
             f" step {cut_step_deg:g}° (the readings would miss the cusps)"
         )
     h = TWO_PI / m
-    theta = np.arange(m) * h
+    theta = np.arange(m, dtype=float) * h
     nominal = design.program.evaluate(theta)
     motion = follow(theta, cut.shape, design.mechanism)
     err = motion.lift - nominal.lift

@@ -153,8 +153,11 @@ def _biarcs(p0: PathSample, p1: PathSample) -> tuple[FloatArray, ...]:
         )
     jx = 0.5 * (p0.x_mm + d * p0.tx + p1.x_mm - d * p1.tx)
     jy = 0.5 * (p0.y_mm + d * p0.ty + p1.y_mm - d * p1.ty)
-    return jx, jy, *_arc_through(p0.x_mm, p0.y_mm, p0.tx, p0.ty, jx, jy), *_arc_through(
-        p1.x_mm, p1.y_mm, p1.tx, p1.ty, jx, jy
+    return (
+        jx,
+        jy,
+        *_arc_through(p0.x_mm, p0.y_mm, p0.tx, p0.ty, jx, jy),
+        *_arc_through(p1.x_mm, p1.y_mm, p1.tx, p1.ty, jx, jy),
     )
 
 
@@ -211,15 +214,16 @@ def _fit(design: CamDesign, r: float, tol: float, mode: str, label: str) -> tupl
         qy = pm.y_mm.reshape(-1, _CHECKS)
         if mode == "lines":
             nan = np.full(knots.size, np.nan)
-            dev = _dist_to_arc(qx, qy, *(a[:, None] for a in (p0.x_mm, p0.y_mm, p1.x_mm, p1.y_mm)),
-                               nan[:, None], nan[:, None], nan[:, None])  # fmt: skip
+            ends = [a[:, None] for a in (p0.x_mm, p0.y_mm, p1.x_mm, p1.y_mm)]
+            none = nan[:, None]
+            dev = _dist_to_arc(qx, qy, ends[0], ends[1], ends[2], ends[3], none, none, none)
             worst = dev.max(axis=1)
         else:
             jx, jy, c1x, c1y, r1, c2x, c2y, r2 = _biarcs(p0, p1)
-            col = [a[:, None] for a in (p0.x_mm, p0.y_mm, jx, jy, c1x, c1y, r1)]
-            d1 = _dist_to_arc(qx, qy, *col)
-            col = [a[:, None] for a in (jx, jy, p1.x_mm, p1.y_mm, c2x, c2y, r2)]
-            d2 = _dist_to_arc(qx, qy, *col)
+            a1 = [a[:, None] for a in (p0.x_mm, p0.y_mm, jx, jy, c1x, c1y, r1)]
+            d1 = _dist_to_arc(qx, qy, a1[0], a1[1], a1[2], a1[3], a1[4], a1[5], a1[6])
+            a2 = [a[:, None] for a in (jx, jy, p1.x_mm, p1.y_mm, c2x, c2y, r2)]
+            d2 = _dist_to_arc(qx, qy, a2[0], a2[1], a2[2], a2[3], a2[4], a2[5], a2[6])
             worst = np.minimum(d1, d2).max(axis=1)
         bad = np.flatnonzero(~(worst <= _FIT_SHARE * tol))
         if bad.size == 0:
@@ -398,8 +402,17 @@ def read_gcode(text: str) -> list[GcodePath]:
         if cur:
             a = np.array(cur, dtype=float)
             paths.append(
-                GcodePath("", a[:, 0], a[:, 1], a[:, 2], a[:, 3], a[:, 4], a[:, 5],
-                          a[:, 6].astype(bool), a[:, 7].astype(bool))  # fmt: skip
+                GcodePath(
+                    "",
+                    a[:, 0],
+                    a[:, 1],
+                    a[:, 2],
+                    a[:, 3],
+                    a[:, 4],
+                    a[:, 5],
+                    a[:, 6].astype(bool),
+                    a[:, 7].astype(bool),
+                )  # fmt: skip
             )
             cur.clear()
 

@@ -189,7 +189,7 @@ def table_precision(
     oscillating = design.mechanism.output == "oscillating"
     scale = 180.0 / math.pi if oscillating else 1.0
     step = 2.0 * math.pi / n
-    theta = np.arange(n) * step
+    theta = np.arange(n, dtype=float) * step
     exact = design.program.evaluate(theta)
     s, v, a = exact.lift * scale, exact.velocity * scale, exact.acceleration * scale
     fine = np.arange(n * _SUBSAMPLES) * (step / _SUBSAMPLES)
@@ -226,11 +226,7 @@ def table_precision(
     recommended = None
     if accel_budget_pct is not None:
         limit = accel_budget_pct / 100.0 * a_max
-        ok = [
-            r.decimals
-            for r in rows
-            if max(r.max_abs_dA_central, r.max_abs_dA_spline) <= limit
-        ]
+        ok = [r.decimals for r in rows if max(r.max_abs_dA_central, r.max_abs_dA_spline) <= limit]
         recommended = min(ok) if ok else None
     return PrecisionStudy(
         design_name=design.name,

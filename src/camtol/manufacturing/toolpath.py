@@ -62,7 +62,7 @@ class PathSample:
 
 
 def single_cams(design: CamDesign) -> list[tuple[str, CamDesign]]:
-    """The single cams of a design: itself, or cams A and B of a conjugate pair.
+    """Return the single cams of a design: itself, or cams A and B of a conjugate pair.
 
     Parameters
     ----------
@@ -75,11 +75,7 @@ def single_cams(design: CamDesign) -> list[tuple[str, CamDesign]]:
         (label, design of one cam with its own follower); the label is "" for a single
         cam, "A" and "B" for a conjugate pair.
     """
-    if design.mechanism.kind != "conjugate":
-        return [("", design)]
-    from camtol.mechanisms.conjugate import cam_design
-
-    return [("A", cam_design(design, "A")), ("B", cam_design(design, "B"))]
+    return [(cam.label, cam.design) for cam in design.cams()]
 
 
 def profile_path(
@@ -89,7 +85,7 @@ def profile_path(
     offset_mm: float = 0.0,
     left_limit: ArrayLike | None = None,
 ) -> PathSample:
-    """The cam profile, or its outward offset by ``offset_mm`` (a cutter-centre path).
+    """Evaluate the cam profile, or its outward offset by ``offset_mm`` (a cutter path).
 
     Parameters
     ----------
