@@ -146,6 +146,12 @@ def check_gouge(design: CamDesign, tool_radius_mm: float, *, step_deg: float = 0
     concave = rho < 0
     if tool_radius_mm > 0 and np.any(concave & (-rho < tool_radius_mm)):
         i = int(np.argmax(np.where(concave, rho, -np.inf)))
+        if math.isinf(tool_radius_mm):
+            raise UndercutError(
+                f"a flat tool cannot cut this profile: it is concave (radius of curvature"
+                f" {-rho[i]:.4g} mm) at θ={math.degrees(theta[i]):.2f}° and the tool would"
+                f" gouge there; use a cylindrical tool of radius at most {-rho[i]:.4g} mm"
+            )
         raise UndercutError(
             f"tool radius {tool_radius_mm:g} mm is larger than the concave radius of curvature"
             f" {-rho[i]:.4g} mm of the profile at θ={math.degrees(theta[i]):.2f}°: the tool"
