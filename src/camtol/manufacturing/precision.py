@@ -107,7 +107,8 @@ class PrecisionStudy:
     truncation_dV_central, truncation_dA_central : float
         Errors of central differences of the *unrounded* table. [lift unit/rad^k]
     truncation_estimate_dA : float
-        Leading-order truncation Δθ²/12 · max |S''''|. [lift unit/rad²]
+        Leading-order truncation: the larger of Δθ²/12 · max |S''''| and Δθ/6 · max |ΔJ|
+        (a jump ΔJ of J on a tabulated angle). [lift unit/rad²]
     rows : tuple of PrecisionRow
         One per number of decimals, in the order asked.
     accel_budget_pct : float or None
@@ -198,10 +199,18 @@ def table_precision(
     a_max = float(np.max(np.abs(a_fine)))
 
     vc, ac = _central(s, step)
-    # S'''' ≈ dJ/dθ by a central difference of the analytic J on the fine grid.
-    j_fine = exact_fine.jerk * scale
-    h_fine = step / _SUBSAMPLES
-    s4 = (np.roll(j_fine, -1) - np.roll(j_fine, 1)) / (2.0 * h_fine)
+    # S'''' ≈ dJ/dθ by a forward difference of the analytic J over 1e-5 rad: right limits
+    # at the program's boundaries, so a jump of J is not mistaken for a huge S''''.
+    eps = 1e-5
+    j_ahead = design.program.evaluate(fine + eps).jerk * scale
+    s4 = (j_ahead - exact_fine.jerk * scale) / eps
+    # A jump ΔJ of J at a tabulated angle adds ΔJ·Δθ/6 to the second difference there.
+    bounds = np.asarray(design.program.boundaries_rad, dtype=float)
+    jump = 0.0
+    if bounds.size:
+        right = design.program.evaluate(bounds).jerk
+        left = design.program.evaluate(bounds, left_limit=np.ones(bounds.size, bool)).jerk
+        jump = float(np.max(np.abs(right - left))) * scale
     rows = []
     gain_spline = spline_acceleration_gain(n)
     for k in decimals:
@@ -236,7 +245,9 @@ def table_precision(
         max_abs_acceleration=a_max,
         truncation_dV_central=float(np.max(np.abs(vc - v))),
         truncation_dA_central=float(np.max(np.abs(ac - a))),
-        truncation_estimate_dA=float(step**2 / 12.0 * np.max(np.abs(s4))),
+        truncation_estimate_dA=max(
+            float(step**2 / 12.0 * np.max(np.abs(s4))), jump * step / 6.0
+        ),
         rows=tuple(rows),
         accel_budget_pct=accel_budget_pct,
         recommended_decimals=recommended,
