@@ -145,8 +145,8 @@ def precision(
         )
         echo(
             f"  unrounded: central differences err by {st.truncation_dV_central:.3g} {u}/rad"
-            f" (V) and {st.truncation_dA_central:.3g} {u}/rad² (A); truncation Δθ²/12·max|S''''|"
-            f" = {st.truncation_estimate_dA:.3g} {u}/rad²"
+            f" (V) and {st.truncation_dA_central:.3g} {u}/rad² (A); truncation estimate"
+            f" max(Δθ²/12·max|S''''|, Δθ/6·max|ΔJ|) = {st.truncation_estimate_dA:.3g} {u}/rad²"
         )
         echo(
             f"  {'decimals':>8} {'Q':>8} {'max|dV| cd':>11} {'max|dA| cd':>11}"

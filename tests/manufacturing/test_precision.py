@@ -39,6 +39,14 @@ def test_truncation_of_second_difference_is_e_dtheta2_over_12(step_deg: float) -
     assert st.truncation_estimate_dA == pytest.approx(bound, rel=1e-3)
 
 
+@pytest.mark.parametrize("name", ["cw06-translating", "cw06-oscillating", "roller-translating"])
+def test_truncation_estimate_includes_jerk_jumps(name: str) -> None:
+    # Cycloidal and modified-sine laws have J jumps at their ends: a second difference on a
+    # jump errs by ΔJ·Δθ/6, far more than Δθ²/12·S''''. The estimate must cover it.
+    st = table_precision(load_example(name), decimals=[9])
+    assert st.truncation_dA_central == pytest.approx(st.truncation_estimate_dA, rel=0.01)
+
+
 def test_rounded_tables_stay_within_the_handbook_bounds() -> None:
     d = load_example("popa-eccentric")
     h = math.radians(1.0)

@@ -245,9 +245,7 @@ def table_precision(
         max_abs_acceleration=a_max,
         truncation_dV_central=float(np.max(np.abs(vc - v))),
         truncation_dA_central=float(np.max(np.abs(ac - a))),
-        truncation_estimate_dA=max(
-            float(step**2 / 12.0 * np.max(np.abs(s4))), jump * step / 6.0
-        ),
+        truncation_estimate_dA=max(float(step**2 / 12.0 * np.max(np.abs(s4))), jump * step / 6.0),
         rows=tuple(rows),
         accel_budget_pct=accel_budget_pct,
         recommended_decimals=recommended,
