@@ -94,11 +94,11 @@ def _precision_json(st: Any) -> dict[str, Any]:
 @click.command()
 @design_options
 @click.option(
-    "--table-step", "table_step_deg", type=float, default=1.0, show_default=True,
+    "--table-step", "table_step_deg", type=float, default=1.0, show_default=True, metavar="DEG",
     help="Spacing of the lift table [deg]; must divide 360.",
 )  # fmt: skip
 @click.option(
-    "--decimals", "decimals_text", default="3,4,5,6", show_default=True,
+    "--decimals", "decimals_text", default="3,4,5,6", show_default=True, metavar="K,...",
     help="Numbers of decimals to round the table to, comma-separated.",
 )  # fmt: skip
 @click.option(
@@ -197,7 +197,7 @@ def _cut_json(res: Any) -> dict[str, Any]:
 @click.command()
 @design_options
 @click.option(
-    "--cut-step", "cut_steps_text", default="1,2,5,10", show_default=True,
+    "--cut-step", "cut_steps_text", default="1,2,5,10", show_default=True, metavar="DEG,...",
     help="Cutting steps δ [deg], comma-separated; each must divide 360.",
 )  # fmt: skip
 @click.option(
@@ -217,7 +217,7 @@ def _cut_json(res: Any) -> dict[str, Any]:
     help="Which cam of a conjugate pair to cut.",
 )  # fmt: skip
 @click.option(
-    "--lift-tolerance-um", "lift_tol", type=float, default=None,
+    "--lift-tolerance-um", "lift_tol", type=float, default=None, metavar="UM",
     help="Find the coarsest step whose lift error stays within this [µm, or deg for an"
     " oscillating follower].",
 )  # fmt: skip
@@ -361,14 +361,22 @@ def cut(
     help="Periodic smoothing spline or Savitzky-Golay (cubic) filter.",
 )  # fmt: skip
 @click.option(
-    "--smoothing", type=float, default=None,
+    "--smoothing", type=float, default=None, metavar="X",
     help="Spline λ [rad³] or Savitzky-Golay window [samples]; default: by GCV or noise.",
 )  # fmt: skip
 @click.option(
-    "--noise-um", type=float, default=None, help="Known rms lift noise [µm] (lift_mm files)."
+    "--noise-um",
+    type=float,
+    default=None,
+    metavar="UM",
+    help="Known rms lift noise [µm] (lift_mm files).",
 )
 @click.option(
-    "--noise-deg", type=float, default=None, help="Known rms lift noise [deg] (lift_deg files)."
+    "--noise-deg",
+    type=float,
+    default=None,
+    metavar="DEG",
+    help="Known rms lift noise [deg] (lift_deg files).",
 )
 @click.option(
     "--output", "-o", "output", default=None, metavar="FILE.csv", help="Write S, V, A, J."

@@ -9,6 +9,40 @@ the program the machine runs (:mod:`~camtol.manufacturing.gcode`).
 
 from __future__ import annotations
 
+from camtol.manufacturing.cutting import (
+    CutCam,
+    CutResult,
+    coarsest_cut_step,
+    cut_cam,
+    simulate_cut,
+)
+from camtol.manufacturing.derivatives import DerivedMotion, derive_lift
+from camtol.manufacturing.gcode import (
+    GcodePath,
+    GcodeProgram,
+    path_deviation,
+    read_gcode,
+    write_gcode,
+)
 from camtol.manufacturing.precision import PrecisionRow, PrecisionStudy, table_precision
+from camtol.manufacturing.toolpath import PathSample, profile_path
 
-__all__ = ["PrecisionRow", "PrecisionStudy", "table_precision"]
+__all__ = [
+    "CutCam",
+    "CutResult",
+    "DerivedMotion",
+    "GcodePath",
+    "GcodeProgram",
+    "PathSample",
+    "PrecisionRow",
+    "PrecisionStudy",
+    "coarsest_cut_step",
+    "cut_cam",
+    "derive_lift",
+    "path_deviation",
+    "profile_path",
+    "read_gcode",
+    "simulate_cut",
+    "table_precision",
+    "write_gcode",
+]
