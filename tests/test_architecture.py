@@ -32,6 +32,8 @@ CORE = [
     "tables.py",
     "grid.py",
     "contact",
+    "manufacturing",
+    "table_noise.py",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 

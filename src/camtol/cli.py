@@ -356,6 +356,21 @@ def _register_subcommands() -> None:
         "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
         " limits.",
     )
+    LAZY_COMMANDS["precision"] = (
+        "camtol.cli_manufacturing",
+        "precision",
+        "How precise must the lift table be? (THEORY §6.1, §6.2)",
+    )
+    LAZY_COMMANDS["cut"] = (
+        "camtol.cli_manufacturing",
+        "cut",
+        "Simulate cutting at discrete cam angles and follow the cut cam exactly (THEORY §6.3).",
+    )
+    LAZY_COMMANDS["derive"] = (
+        "camtol.cli_manufacturing",
+        "derive",
+        "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
+    )
     cli.lazy_commands.update(LAZY_COMMANDS)
 
 
