@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import sys
 import warnings
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -86,9 +87,7 @@ def main() -> list[Figure]:
         design = load_example(name)
         row = []
         for n, repeat in ((3_601, 30), (36_001, 10), (360_001, 3)):
-            wall, cpu = best_of_both(
-                lambda d=design, n=n: analyse(d, step_deg=360.0 / (n - 1)), repeat
-            )
+            wall, cpu = best_of_both(partial(analyse, design, step_deg=360.0 / (n - 1)), repeat)
             row.append(f"{wall * 1e3:8.2f} ({cpu * 1e3:7.2f}) ms")
             if n in TARGETS_MS:
                 figures.append(
