@@ -474,12 +474,8 @@ class SegmentProgram(MotionProgram):
             rows = np.flatnonzero(idx == i)
             if rows.size == 0:
                 continue
-            # A sorted grid gives each segment one run of rows: a slice (a view) instead of
-            # gathering and scattering through an index array.
-            contiguous = int(rows[-1]) - int(rows[0]) + 1 == rows.size
-            m: slice | NDArray[np.intp] = (
-                slice(int(rows[0]), int(rows[-1]) + 1) if contiguous else rows
-            )
+            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
+            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
                 continue
