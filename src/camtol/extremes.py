@@ -68,12 +68,11 @@ class Extreme:
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
     """Index runs [i, j] (inclusive) of True values."""
-    idx = np.flatnonzero(mask)
-    if idx.size == 0:
+    if mask.size == 0:
         return []
-    breaks = np.flatnonzero(np.diff(idx) > 1)
-    starts = np.concatenate([idx[:1], idx[breaks + 1]])
-    ends = np.concatenate([idx[breaks], idx[-1:]])
+    bounds = np.concatenate(([0], np.flatnonzero(mask[1:] != mask[:-1]) + 1, [mask.size]))
+    held = mask[bounds[:-1]]  # each stretch between changes is all True or all False
+    starts, ends = bounds[:-1][held], bounds[1:][held] - 1
     return list(zip(starts.tolist(), ends.tolist(), strict=True))
 
 
