@@ -26,6 +26,7 @@ from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.kinematics import Kinematics, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import Mechanism
+from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["CHUNK", "evaluate_engine"]
@@ -92,6 +93,22 @@ class _Columns:
         return [*self._full, *self._const]
 
 
+def _motion(
+    design: CamDesign, theta: FloatArray, left: NDArray[np.bool_], chunk: int
+) -> MotionState:
+    """S, V, A, J of the design's program, evaluated chunk by chunk into full arrays."""
+    n = theta.size
+    if n <= chunk:
+        return design.program.evaluate(theta, left_limit=left)
+    out = [np.empty(n) for _ in range(4)]
+    for a in range(0, n, chunk):
+        at = slice(a, min(n, a + chunk))
+        m = design.program.evaluate(theta[at], left_limit=left[at])
+        for full, part in zip(out, (m.lift, m.velocity, m.acceleration, m.jerk), strict=True):
+            full[at] = part
+    return MotionState(*out)
+
+
 def evaluate_engine(
     design: CamDesign,
     theta_rad: ArrayLike,
@@ -133,7 +150,7 @@ def evaluate_engine(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
-    motion = design.program.evaluate(theta, left_limit=left)
+    motion = _motion(design, theta, left, max(int(chunk), 1))
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
