@@ -163,7 +163,13 @@ def cli() -> None:
 @cli.command()
 @design_options
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -200,19 +206,31 @@ def analyze(
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
-        if plot_angle_deg is not None and not math.isfinite(plot_angle_deg):
-            fail(f"--plot-angle={plot_angle_deg!r} must be a finite number of degrees")
+        if plot_angle_deg is not None:
+            if plot is None:
+                fail("--plot-angle draws on the figure: give --plot FILE.png as well")
+            if not (math.isfinite(plot_angle_deg) and 0.0 <= plot_angle_deg < 360.0):
+                fail(
+                    f"--plot-angle={plot_angle_deg!r} is not allowed; give a cam angle from 0"
+                    " up to (not including) 360 degrees"
+                )
         from camtol.report import tables
 
         a = analyse_with_hint(load_input(design, example), step_deg=step_deg)
+        written = []
         if curves:
             tables.write_curves_csv(a, curves)
+            written.append(curves)
         if plot:
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
+            written.append(plot)
         if as_json:
             click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
         elif not quiet:
             tables.print_analysis(a)
+        if not quiet:
+            for path in written:  # on stderr with --json, so stdout stays one JSON document
+                click.echo(f"wrote {path}", err=as_json)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))

@@ -104,7 +104,13 @@ def sizing_hint(design: Any) -> str | None:
     help="Also choose the offset of a translating roller follower (smallest max |φ|).",
 )
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def size(
