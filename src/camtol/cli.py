@@ -287,6 +287,11 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_manufacturing import cut, derive, precision
+
+    cli.add_command(precision)
+    cli.add_command(cut)
+    cli.add_command(derive)
     from camtol.cli_size import size
 
     cli.add_command(size)
