@@ -130,3 +130,25 @@ def test_max_radius_is_the_refined_radius_extreme() -> None:
         a = analyse(design)
         assert a.max_radius_mm == pytest.approx(max_radius_mm(design), abs=1e-12)
         assert a.max_radius_mm == pytest.approx(a.extremes["radius"][0].value, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["cw06-translating", "roller-oscillating"])
+def test_design_level_sources_go_through_the_engine(name: str) -> None:
+    from camtol.config import design_from_mapping, example_text
+    from camtol.examples import parse_toml
+
+    data = parse_toml(example_text(name), name)
+    data["tolerances"]["phase_deg"] = 0.01  # the cam's angular phase (camtol.sources)
+    design = design_from_mapping(data)
+    a = analyse(design, step_deg=1.0)
+    k = a.kinematics
+    ref = error_analysis(design, a.tolerances, k.theta_rad, left_limit=k.left_limit)
+    for key, src in ref.sources.items():
+        np.testing.assert_allclose(a.errors.sources[key].delta_lift, src.delta_lift, atol=1e-15)
+        np.testing.assert_allclose(
+            a.errors.sources[key].delta_acceleration, src.delta_acceleration, atol=1e-12
+        )
+    # ΔS_phase = −V·Δθ0 (camtol.sources)
+    np.testing.assert_allclose(
+        a.errors.sources["phase"].delta_lift, -k.velocity * math.radians(0.01), atol=1e-15
+    )
