@@ -118,6 +118,7 @@ def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
         (["cut", "-e", "popa-eccentric", "--cut-step", "7"], "--cut-step=7"),
         (["cut", "-e", "popa-eccentric", "--cut-step", "1", "--read-step", "2"], "coarser"),
         (["cut", "-e", "popa-eccentric", "--tool", "cylinder"], "--tool-radius"),
+        (["cut", "-e", "popa-eccentric", "--tool", "cylinder", "--tool-radius", "-1"], "-1"),
         (["precision", "-e", "popa-eccentric", "--table-step", "7"], "--table-step=7"),
         (["precision", "-e", "popa-eccentric", "--decimals", "3,x"], "--decimals"),
         (["profile", "-e", "popa-eccentric", "-o", "OUT.nc"], "--cutter-radius"),
