@@ -18,7 +18,9 @@ import numpy as np
 from camtol import __version__
 from camtol.analysis import Analysis
 from camtol.extremes import Extreme
-from camtol.inspection.fixture import FixtureInspection, FixtureSpec, merge_intervals
+from camtol.inspection.acceptance import merge_intervals
+from camtol.inspection.fixture import FixtureInspection
+from camtol.inspection.spec import FixtureSpec
 from camtol.jet import FloatArray
 from camtol.kinematics import kinematics
 from camtol.mechanisms.conjugate import cam_design
