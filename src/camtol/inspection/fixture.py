@@ -202,7 +202,23 @@ def _fixture_parts(
 def fixture_curves(
     variation: ConjugateVariation, estimate: InverseEstimate | None, bands: AcceptanceBands
 ) -> dict[str, FloatArray]:
-    """Collect the fixture's curves by name (µm); the estimates only with a measurement."""
+    """Collect the fixture's curves by name; the estimates only with a measurement.
+
+    Parameters
+    ----------
+    variation : ConjugateVariation
+        The Δf parts. [µm]
+    estimate : InverseEstimate or None
+        Δf_mea, Δr_A,est, Δr_B,est, when there is a measurement. [µm]
+    bands : AcceptanceBands
+        The four acceptance bands. [µm]
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``df_r``, ``df_rf``, ``df_l``, ``df_eta``, ``df_est`` (then ``df_mea``,
+        ``dr_A_est``, ``dr_B_est``) and the bands ``df_A_upper`` ... ``df_B_lower``. [µm]
+    """
     out = {
         "df_r": variation.df_r_um,
         "df_rf": variation.df_rf_um,
