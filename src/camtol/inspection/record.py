@@ -127,7 +127,7 @@ def _reading_problem(df_um: FloatArray) -> tuple[int, str] | None:
         return None
     i = int(np.argmax(bad))
     return i, (
-        f"df_um={df_um[i]!r} is not allowed; an indicator reading must be a finite number"
+        f"df_um={float(df_um[i]):g} is not allowed; an indicator reading must be a finite number"
         f" within ±{MAX_ERROR_UM:g} µm (check the unit)"
     )
 
@@ -137,7 +137,7 @@ def _time_problem(time_s: FloatArray) -> tuple[int, str] | None:
     bad = ~np.isfinite(time_s) | (time_s < 0)
     if np.any(bad):
         i = int(np.argmax(bad))
-        return i, f"time_s={time_s[i]!r} is not allowed; sample times are finite and ≥ 0 s"
+        return i, f"time_s={float(time_s[i]):g} is not allowed; sample times are finite and ≥ 0 s"
     step = np.diff(time_s)
     back = step <= 0
     if np.any(back):

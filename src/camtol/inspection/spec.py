@@ -142,15 +142,16 @@ def _validation_message(exc: ValidationError, raw: Mapping[str, Any], prefix: st
     )
 
 
-def _band(value: list[float] | None, key: str, prefix: str) -> tuple[float, float]:
+def _band(value: list[float] | None, key: str, prefix: str, given: object) -> tuple[float, float]:
+    """Return (lower, upper) of a tolerance band; ``given`` is the value as written."""
     if value is None or len(value) != 2:
-        raise DesignError(f"{prefix}{key}={_shown(value)} is not allowed; give {_ALLOWED[key]}")
+        raise DesignError(f"{prefix}{key}={_shown(given)} is not allowed; give {_ALLOWED[key]}")
     lo, hi = float(value[0]), float(value[1])
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise DesignError(f"{prefix}{key}={_shown(value)} is not allowed; give {_ALLOWED[key]}")
+        raise DesignError(f"{prefix}{key}={_shown(given)} is not allowed; give {_ALLOWED[key]}")
     if max(abs(lo), abs(hi)) > MAX_ERROR_UM:
         raise DesignError(
-            f"{prefix}{key}={_shown(value)} is not allowed; give limits within"
+            f"{prefix}{key}={_shown(given)} is not allowed; give limits within"
             f" ±{MAX_ERROR_UM:g} µm (check the unit)"
         )
     return lo, hi
@@ -206,8 +207,12 @@ def fixture_spec_from_mapping(
         m = _InspectionSchema.model_validate(dict(raw))
     except ValidationError as exc:
         raise DesignError(_validation_message(exc, raw, prefix)) from None
-    tol_a = _band(m.tolerance_a_um, "tolerance_a_um", prefix)
-    tol_b = tol_a if m.tolerance_b_um is None else _band(m.tolerance_b_um, "tolerance_b_um", prefix)
+    tol_a = _band(m.tolerance_a_um, "tolerance_a_um", prefix, raw.get("tolerance_a_um"))
+    tol_b = (
+        tol_a
+        if m.tolerance_b_um is None
+        else _band(m.tolerance_b_um, "tolerance_b_um", prefix, raw.get("tolerance_b_um"))
+    )
     lengths = {
         k: _bounded(getattr(m, k), k, MAX_ERROR_UM, "length", prefix)
         for k in ("dl_a_um", "dl_b_um", "drr_c_um", "drr_d_um")

@@ -219,7 +219,9 @@ def fixture_json(
         Design name written to the ``design`` field.
     record : RecordEstimates, optional
         With an indicator record (THEORY §4.4): adds a ``record`` object (revolutions,
-        samples per revolution min/max, ``u_f_max_um``, ``u_f_rms_um``, ``df_mea_rms_um``,
+        samples per revolution min/max, ``discarded_samples``, ``dropped_revolutions``
+        (``revolution``, ``first_sample``, ``last_sample``, 1-based, with
+        ``--drop-bad-revolutions``), ``u_f_max_um``, ``u_f_rms_um``, ``df_mea_rms_um``,
         notes) and the extremes of ``u_f_um`` and of the estimates at Δf_mea ± u_f
         (``dr_A_est_upper_um``, ``dr_A_est_lower_um``, ``dr_B_est_upper_um``,
         ``dr_B_est_lower_um``). The verdicts stay those of the mean record.
@@ -283,6 +285,10 @@ def _record_json(record: RecordEstimates) -> dict[str, Any]:
             "max": int(p.samples_per_revolution.max()),
         },
         "discarded_samples": p.discarded_samples,
+        "dropped_revolutions": [
+            {"revolution": n, "first_sample": a, "last_sample": b}
+            for n, a, b in p.dropped_revolutions
+        ],
         "grid_step_deg": float(p.theta_deg[1] - p.theta_deg[0]),
         "u_f_max_um": p.u_f_max_um,
         "u_f_rms_um": p.u_f_rms_um,
