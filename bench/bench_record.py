@@ -78,10 +78,9 @@ def main() -> int:
         path = Path(tmp) / "record.csv"
         t = time.perf_counter()
         write_record(path, rows)
+        wrote_s = time.perf_counter() - t
         size_mib = path.stat().st_size / 2**20
-        print(
-            f"record: {rows:,} rows, {size_mib:.0f} MiB (written in {time.perf_counter() - t:.1f} s)"
-        )
+        print(f"record: {rows:,} rows, {size_mib:.0f} MiB (written in {wrote_s:.1f} s)")
         base = run("baseline", path)
         cam = run("camtol", path)
     ok = cam["wall_s"] <= TARGET_S and cam["peak_mib"] <= TARGET_MIB

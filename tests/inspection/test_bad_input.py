@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+import tomllib
 
 from camtol.cli import main
 from camtol.config import design_from_mapping, example_text, load_design, load_example
