@@ -81,6 +81,11 @@ class FixtureInspection:
     extremes : dict of str to (Extreme, Extreme)
         Global (max, min) of every curve of :func:`fixture_curves`, refined to step/1000;
         a value held over an angle range is reported as that range. [µm]
+    predicted : ConjugateVariation or None
+        With a measurement: the forward variation of CW11 eqs. 14-18 from the known errors
+        of both cams (``master_a``, ``master_b``), whose ``df_est_um`` is the Δf_est to
+        compare with Δf_mea (the paper's validation, THEORY §4.1, §8.4); None without a
+        measurement (then ``variation`` is that forward variation). [µm]
     """
 
     theta_rad: FloatArray
@@ -90,6 +95,14 @@ class FixtureInspection:
     bands: AcceptanceBands
     verdicts: dict[str, CamVerdict]
     extremes: dict[str, tuple[Extreme, Extreme]]
+    predicted: ConjugateVariation | None = None
+
+    @property
+    def df_est_minus_mea_um(self) -> FloatArray | None:
+        """Δf_est (eqs. 14-18, known errors) − Δf_mea over θ; None without both. [µm]"""
+        if self.predicted is None or self.estimate is None:
+            return None
+        return np.asarray(self.predicted.df_est_um - self.estimate.df_mea_um)
 
     @property
     def passed(self) -> bool | None:
@@ -139,14 +152,17 @@ def inspect_conjugate(
 def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureInspection:
     n = check_step(step_deg, name="step_deg", min_points=_MIN_POINTS)
     theta: FloatArray = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    fac, variation, est, bands = _fixture_parts(design, spec, theta)
+    fac, variation, est, bands, predicted = _fixture_parts(design, spec, theta)
 
     def evaluate(t: FloatArray) -> dict[str, FloatArray]:
-        _, var_t, est_t, bands_t = _fixture_parts(design, spec, t)
-        return fixture_curves(var_t, est_t, bands_t)
+        _, var_t, est_t, bands_t, pred_t = _fixture_parts(design, spec, t)
+        return fixture_curves(var_t, est_t, bands_t, predicted=pred_t)
 
     extremes = find_extremes(
-        theta, fixture_curves(variation, est, bands), evaluate, step_deg=step_deg
+        theta,
+        fixture_curves(variation, est, bands, predicted=predicted),
+        evaluate,
+        step_deg=step_deg,
     )
     if spec.df_mea is None or est is None:
         return FixtureInspection(theta, fac, variation, None, bands, {}, extremes)
@@ -181,26 +197,37 @@ def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureIn
         m = np.minimum(est.df_mea_um - lo, up - est.df_mea_um)
         intervals = failing_intervals(theta, margin_fn(cam))
         verdicts[cam] = CamVerdict(cam, not intervals, intervals, float(m.min()))
-    return FixtureInspection(theta, fac, variation, est, bands, verdicts, extremes)
+    return FixtureInspection(theta, fac, variation, est, bands, verdicts, extremes, predicted)
 
 
 def _fixture_parts(
     design: CamDesign, spec: FixtureSpec, theta: FloatArray
-) -> tuple[ConjugateFactors, ConjugateVariation, InverseEstimate | None, AcceptanceBands]:
-    """Geometry, variation, estimate (with a measurement) and bands at the angles."""
+) -> tuple[
+    ConjugateFactors,
+    ConjugateVariation,
+    InverseEstimate | None,
+    AcceptanceBands,
+    ConjugateVariation | None,
+]:
+    """Geometry, variation, estimate, bands and (with a measurement) the prediction."""
     fac = conjugate_factors(theta, design)
     bands = acceptance_bands(
         fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
     )
+    forward = conjugate_variation(fac, spec.master_a, spec.master_b, spec.errors)
     if spec.df_mea is None:
-        return fac, conjugate_variation(fac, spec.master_a, spec.master_b, spec.errors), None, bands
+        return fac, forward, None, bands, None
     est = inverse_estimate(fac, spec.df_mea, spec.master_a, spec.master_b, spec.errors)
     rf, ll, eta = constant_parts(fac, spec.errors)
-    return fac, ConjugateVariation(theta, est.df_r_um, rf, ll, eta), est, bands
+    return fac, ConjugateVariation(theta, est.df_r_um, rf, ll, eta), est, bands, forward
 
 
 def fixture_curves(
-    variation: ConjugateVariation, estimate: InverseEstimate | None, bands: AcceptanceBands
+    variation: ConjugateVariation,
+    estimate: InverseEstimate | None,
+    bands: AcceptanceBands,
+    *,
+    predicted: ConjugateVariation | None = None,
 ) -> dict[str, FloatArray]:
     """Collect the fixture's curves by name; the estimates only with a measurement.
 
@@ -212,12 +239,15 @@ def fixture_curves(
         Δf_mea, Δr_A,est, Δr_B,est, when there is a measurement. [µm]
     bands : AcceptanceBands
         The four acceptance bands. [µm]
+    predicted : ConjugateVariation, optional
+        With a measurement: the forward prediction from the known errors (eqs. 14-18).
 
     Returns
     -------
     dict of str to ndarray
         ``df_r``, ``df_rf``, ``df_l``, ``df_eta``, ``df_est`` (then ``df_mea``,
-        ``dr_A_est``, ``dr_B_est``) and the bands ``df_A_upper`` ... ``df_B_lower``. [µm]
+        ``dr_A_est``, ``dr_B_est``, and ``df_est_pred`` with a prediction) and the bands
+        ``df_A_upper`` ... ``df_B_lower``. [µm]
     """
     out = {
         "df_r": variation.df_r_um,
@@ -232,6 +262,8 @@ def fixture_curves(
             "dr_A_est": estimate.dr_a_est_um,
             "dr_B_est": estimate.dr_b_est_um,
         }
+        if predicted is not None:
+            out["df_est_pred"] = predicted.df_est_um
     out |= {
         "df_A_upper": bands.df_a_upper_um,
         "df_A_lower": bands.df_a_lower_um,
