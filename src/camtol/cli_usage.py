@@ -10,6 +10,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -21,10 +22,11 @@ _WIDTH = 92
 
 
 def _metavar(param: click.Parameter, ctx: click.Context) -> str:
+    make: Any = param.make_metavar  # its signature changed in click 8.2
     try:
-        return param.make_metavar(ctx)  # type: ignore[call-arg]  # click >= 8.2
-    except TypeError:  # pragma: no cover - click 8.1
-        return param.make_metavar()  # type: ignore[call-arg]
+        return str(make(ctx))
+    except TypeError:  # pragma: no cover - click 8.1 takes no context
+        return str(make())
 
 
 def _piece(param: click.Parameter, ctx: click.Context) -> str | None:
