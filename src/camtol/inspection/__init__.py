@@ -20,7 +20,7 @@ from camtol.inspection.conjugate import (
     conjugate_variation,
     inverse_estimate,
 )
-from camtol.inspection.error_functions import ErrorFunction
+from camtol.inspection.error_functions import ErrorFunction, parse_error_function
 from camtol.inspection.fixture import FixtureInspection, inspect_conjugate
 from camtol.inspection.record import (
     IndicatorRecord,
@@ -43,6 +43,7 @@ __all__ = [
     "conjugate_variation",
     "inspect_conjugate",
     "inverse_estimate",
+    "parse_error_function",
     "process_record",
     "read_indicator_csv",
     "record_estimates",
