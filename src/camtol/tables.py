@@ -466,16 +466,28 @@ def read_table(
     # The head may end inside a line or a character: only its complete lines are used.
     head_text = head.decode(encoding, errors="replace").removeprefix("\ufeff")
     head_text = head_text[: head_text.rfind("\n") + 1] or head_text
-    layout = _layout(
-        head_text,
-        str(p),
-        required,
-        optional,
-        aliases,
-        default_names,
-        what,
-        ignore_other_columns,
-    )
+    try:
+        layout = _layout(
+            head_text,
+            str(p),
+            required,
+            optional,
+            aliases,
+            default_names,
+            what,
+            ignore_other_columns,
+        )
+    except InputFileError:  # e.g. more comment lines than the head holds: read it whole
+        return parse_table(
+            _read_text(p),
+            source=str(p),
+            required=required,
+            optional=optional,
+            aliases=aliases,
+            default_names=default_names,
+            what=what,
+            ignore_other_columns=ignore_other_columns,
+        )
     try:
         with p.open(encoding=encoding, newline=None) as fh:
             return _load(fh, layout, lambda: _read_text(p), str(p), what)
