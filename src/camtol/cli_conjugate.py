@@ -69,7 +69,7 @@ __all__ = ["conjugate"]
     default=0.1,
     show_default=True,
     metavar="DEG",
-    help="Grid step [deg].",
+    help="Grid step [deg]; must divide 360° into a whole number of steps, 0.0001° to 90°.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
