@@ -69,7 +69,7 @@ __all__ = ["conjugate"]
     default=0.1,
     show_default=True,
     metavar="DEG",
-    help="Grid step [deg]; must divide 360° into a whole number of steps, 0.0001° to 90°.",
+    help="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -121,8 +121,9 @@ def conjugate(
         if drop_bad_revolutions and record_path is None:
             fail("--drop-bad-revolutions applies to --record; give the record too")
         from camtol.grid import check_step
+        from camtol.inspection.fixture import MAX_FIXTURE_POINTS
 
-        check_step(step_deg, name="--step", min_points=4)
+        check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         from camtol.inspection.error_functions import ErrorFunction, parse_error_function

@@ -196,7 +196,9 @@ def test_error_table_forms(tmp_path: Path) -> None:
 
 
 # --- the conjugate command's --step: the one grid rule (issue 9 item 8) ---------------------
-@pytest.mark.parametrize("step", ["0", "nan", "1e-9", "1e-300", "0.7", "-1", "inf", "180"])
+@pytest.mark.parametrize(
+    "step", ["0", "nan", "1e-9", "1e-300", "0.7", "-1", "inf", "180", "0.0001"]
+)
 def test_cli_conjugate_step_uses_the_grid_rule(
     step: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
