@@ -229,3 +229,24 @@ def test_inspect_conjugate_uses_the_designs_spec() -> None:
     np.testing.assert_array_equal(a.bands.df_a_upper_um, b.bands.df_a_upper_um)
     with pytest.raises(DesignError, match=r"has no \[inspection\] table"):
         inspect_conjugate(dataclasses.replace(d, inspection=None))
+
+
+def test_verify_and_report_use_the_resolved_csv_paths(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Before, `verify` re-parsed [inspection] without the design's directory: a relative
+    master CSV was looked up in the working directory ("cannot read the error table")."""
+    (tmp_path / "m.csv").write_text("theta_deg,dr_um\n0,18\n180,22\n")
+    text = example_text("cw11-conjugate").replace(
+        'master_a_um = "18.5 + 3.5*sin(theta)"', 'master_a_um = "m.csv"'
+    )
+    (tmp_path / "d.toml").write_text(text)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    code, out, err = _run(["verify", str(tmp_path / "d.toml")], capsys)
+    assert code == 0, err
+    assert "all checks passed" in out
+    code, out, err = _run(["report", str(tmp_path / "d.toml"), "-o", "r.html", "-q"], capsys)
+    assert code in (0, 1), err
+    assert "m.csv" in (elsewhere / "r.html").read_text(encoding="utf-8")
