@@ -77,3 +77,14 @@ def test_cli_reports_the_prediction(capsys: pytest.CaptureFixture[str]) -> None:
     main(["conjugate", "-e", "cw11-conjugate", "--step", "1"])
     out = " ".join(capsys.readouterr().out.split())
     assert "Δf_est from the known errors of both cams" in out
+
+
+def test_the_variation_panel_draws_the_prediction() -> None:
+    pytest.importorskip("matplotlib")
+    from camtol.report.plots import conjugate_variation_plot
+
+    res = inspect_conjugate(load_example("cw11-conjugate"), step_deg=1.0)
+    assert res.predicted is not None
+    arts = conjugate_variation_plot(res)
+    pred = next(a for a in arts if a.get_label().startswith("Δf_est from the known errors"))
+    np.testing.assert_allclose(pred.get_ydata(), res.predicted.df_est_um)
