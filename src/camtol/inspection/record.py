@@ -186,7 +186,7 @@ def read_indicator_csv(path: str | Path) -> IndicatorRecord:
         what="indicator record",
         ignore_other_columns=True,
     )
-    df = np.ascontiguousarray(tab.column("df_um"))
+    df = tab.column("df_um")  # views into the table: no copies of 10-million-row columns
     idx = tab.column("index")
     bad = (idx != 0) & (idx != 1)
     if np.any(bad):
@@ -195,7 +195,7 @@ def read_indicator_csv(path: str | Path) -> IndicatorRecord:
             f"{p}, line {tab.line_of(i)}: column index={idx[i]:g} is not allowed; give 1 where"
             " the index mark fires, else 0"
         )
-    time = np.ascontiguousarray(tab.column("time_s")) if "time_s" in tab else None
+    time = tab.column("time_s") if "time_s" in tab else None
     problem = _reading_problem(df) or (_time_problem(time) if time is not None else None)
     if problem is not None:
         i, text = problem
