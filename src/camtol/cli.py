@@ -232,6 +232,11 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_inspect import inspect
+    from camtol.cli_simulate import simulate
+
+    cli.add_command(inspect)
+    cli.add_command(simulate)
 
 
 _register_subcommands()
