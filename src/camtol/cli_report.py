@@ -31,7 +31,7 @@ __all__ = ["profile", "report"]
     "--output",
     "-o",
     "output",
-    metavar="FILE",
+    metavar="FILE.csv|.dxf|.svg",
     required=True,
     help="Output file; the suffix chooses the format: .csv, .dxf or .svg.",
 )
@@ -41,6 +41,7 @@ __all__ = ["profile", "report"]
     type=float,
     default=0.1,
     show_default=True,
+    metavar="UM",
     help="Largest deviation of a polyline chord from the analytic profile [µm].",
 )
 @click.option(
@@ -65,8 +66,9 @@ def profile(
     """Export the cam profile for CAD/CAM (CSV, DXF or SVG, chosen by the suffix of -o).
 
     The polylines' vertices lie on the analytic profile and every chord deviates from it
-    by less than --tolerance. DXF layers: CAM_PROFILE, PITCH_CURVE (roller followers),
-    CUTTER_PATH (with --cutter-radius); a conjugate pair has CAM_A_* and CAM_B_* layers.
+    by less than --tolerance. DXF layers: CAM_PROFILE, CAM_PITCH_CURVE (roller followers),
+    CAM_CUTTER_PATH (with --cutter-radius), CAM_CENTRE; a conjugate pair has CAM_A_* and
+    CAM_B_* layers.
     Coordinates in mm in the cam frame (origin at the cam pivot).
     """
 
@@ -121,7 +123,13 @@ def profile(
     "--output", "-o", "output", metavar="FILE.html", required=True, help="Report file (.html)."
 )
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
