@@ -20,7 +20,6 @@ resolved value; THEORY §3.6), or for a conjugate pair ``inspection.tolerance_a_
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -89,20 +88,15 @@ def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
     DesignError
         Cam "B" of a single cam, or an unknown label.
     """
-    from camtol.mechanisms.conjugate import ConjugatePair, cam_design
-
     if cam not in ("A", "B"):
         raise DesignError(f"--cam {cam!r} is not allowed; use A or B")
-    if isinstance(design.mechanism, ConjugatePair):
-        single = cam_design(design, cam)
-        single = dataclasses.replace(single, extras=design.extras)
-    elif cam == "B":
+    cams = design.cams()
+    if cam == "B" and len(cams) < 2:
         raise DesignError(
             f"--cam B: the design {design.name!r} has one cam ({design.mechanism.kind});"
             " cam B exists only for a conjugate pair"
         )
-    else:
-        single = design
+    single = cams[0 if cam == "A" else 1].design
     return CamProfile(cam, single, profile_table(single.mechanism, single.program))
 
 
