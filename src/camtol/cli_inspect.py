@@ -73,7 +73,14 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     centre = None
     mode = text
     if text.startswith("centre:") or text.startswith("center:"):
-        x, y = parse_numbers(text.split(":", 1)[1], 2, "--datum centre:", "centre:X,Y in mm")
+        values = text.split(":", 1)[1]
+        if values.count(",") == 2:  # centre:X,Y,DEG: centre and stated angle at once
+            x, y, a = parse_numbers(values, 3, "--datum", "centre:X,Y or centre:X,Y,DEG")
+            if angle is not None:
+                fail(f"--datum={text!r} states the angle already; leave out --datum-angle")
+            angle = a
+        else:
+            x, y = parse_numbers(values, 2, "--datum", "centre:X,Y or centre:X,Y,DEG (mm, deg)")
         mode, centre = "centre", (x, y)
     if mode not in ("fit", "fit-rotation", "bore", "centre"):
         fail(f"--datum={text!r} is not allowed; use fit, fit-rotation, bore or centre:X,Y (mm)")
@@ -105,9 +112,9 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 @click.option("--columns", metavar="NAME=col,...",
               help="Map the file's column names, e.g. X=x_mm,Y=y_mm.")
 @click.option("--datum", "datum_text", default="fit", show_default=True,
-              metavar="fit|fit-rotation|bore|centre:X,Y",
+              metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
               help="Registration: best fit (rotation+translation), rotation only, bore circle"
-              " (points flagged bore=1) or a given centre [mm].")
+              " (points flagged bore=1) or a given centre [mm] (and stated angle [deg]).")
 @click.option("--datum-angle", "datum_angle", type=float, metavar="DEG",
               help="Stated rotation of the cam's reference radial in the CMM frame [deg]"
               " (with bore or centre).")
@@ -225,3 +232,81 @@ def inspect(
 
     raise _Exit(run_guarded(body))
 
+
+
+def cmm_pair_masters(
+    design: object,
+    spec: object,
+    cmm_a: str,
+    cmm_b: str,
+    *,
+    stylus_radius_mm: float,
+    datum_text: str,
+    master_given: tuple[bool, bool],
+    step_deg: float,
+) -> tuple[object, object]:
+    """Read both cams' scans for ``camtol conjugate --cmm-a/--cmm-b`` (issue 12 item 5).
+
+    Each scan is registered and its Δn smoothed (:mod:`camtol.inspection.functional`);
+    the CMM radial errors Δr = Δn / cos λ become the master cams' errors (unless
+    --master-a/--master-b were given: the paper estimates A with B's CMM error and B with
+    A's), and the fixture is compared with the CMM profiles
+    (:func:`~camtol.inspection.cmm_fixture.compare_cmm_fixture`).
+
+    Returns
+    -------
+    (FixtureSpec, CmmFixtureComparison)
+        The spec with the masters replaced, and the comparison.
+    """
+    import dataclasses
+
+    import numpy as np
+
+    from camtol.inspection.cmm import read_scan
+    from camtol.inspection.cmm_fixture import compare_cmm_fixture
+    from camtol.inspection.deviations import inspect_scan
+    from camtol.inspection.fixture import ErrorFunction, FixtureSpec
+    from camtol.inspection.functional import DEFAULT_HARMONICS, fourier_fit
+
+    assert isinstance(spec, FixtureSpec)
+    datum = parse_datum(datum_text, None, None, "soft_l1")
+    normals = []
+    for cam, path in (("A", cmm_a), ("B", cmm_b)):
+        scan = read_scan(path, cam=cam, stylus_radius_mm=stylus_radius_mm)  # type: ignore[arg-type]
+        tol = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
+        insp = inspect_scan(design, scan, cam=cam, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
+        normals.append(fourier_fit(insp.param_rad[insp.kept], insp.dn_um[insp.kept] * 1e-3, DEFAULT_HARMONICS))
+    comp = compare_cmm_fixture(
+        design, normals[0], normals[1], spec.errors, df_mea=spec.df_mea, step_deg=step_deg  # type: ignore[arg-type]
+    )
+    deg = np.degrees(comp.theta_rad)
+    spec = dataclasses.replace(
+        spec,
+        master_a=spec.master_a if master_given[0] else ErrorFunction.table(deg, comp.dr_a_cmm_um, name=f"CMM {cmm_a}"),
+        master_b=spec.master_b if master_given[1] else ErrorFunction.table(deg, comp.dr_b_cmm_um, name=f"CMM {cmm_b}"),
+    )
+    return spec, comp
+
+
+def cmm_comparison_lines(summary: dict[str, float]) -> list[str]:
+    """Text lines of the CMM-fixture comparison ([CW11] Table 4 figures, µm)."""
+    lines = [
+        f"CMM: rms Δr_A {summary['rms_dr_A_cmm_um']:.2f} µm, rms Δr_B {summary['rms_dr_B_cmm_um']:.2f} µm;"
+        f" fixture predicted from the CMM profiles: rms Δf {summary['rms_df_twin_um']:.2f} µm (exact),"
+        f" {summary['rms_df_est_um']:.2f} µm (eqs. 14-18)"
+    ]
+    if "rms_df_mea_um" in summary:
+        lines.append(
+            f"against Δf_mea (rms {summary['rms_df_mea_um']:.2f} µm): rms(Δf_est − Δf_mea)"
+            f" {summary['rms_df_est_minus_mea_um']:.2f} µm"
+            f" ({100 * summary['relative_deviation_df_est']:.2f}%), rms(Δf_twin − Δf_mea)"
+            f" {summary['rms_df_twin_minus_mea_um']:.2f} µm"
+            f" ({100 * summary['relative_deviation_df_twin']:.2f}%)"
+        )
+    if "rms_dr_A_est_minus_cmm_um" in summary:
+        lines.append(
+            "fixture estimates against the CMM (each with the other cam's CMM error as"
+            f" master): rms(Δr_A,est − Δr_A,CMM) {summary['rms_dr_A_est_minus_cmm_um']:.2f} µm,"
+            f" rms(Δr_B,est − Δr_B,CMM) {summary['rms_dr_B_est_minus_cmm_um']:.2f} µm"
+        )
+    return lines

@@ -109,3 +109,68 @@ def simulate_cmm(
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+@simulate.command("record")
+@design_options
+@click.option("--output", "-o", "output", required=True, metavar="RECORD.csv",
+              help="Indicator record to write (time_s, df_um, index).")
+@click.option("--truth-a", required=True, metavar="SCAN_A.truth.json",
+              help="Truth of the simulated CMM scan of cam A (its profile error).")
+@click.option("--truth-b", required=True, metavar="SCAN_B.truth.json",
+              help="Truth of the simulated CMM scan of cam B.")
+@click.option("--noise-um", type=float, default=0.5, show_default=True,
+              help="Indicator noise per sample (standard deviation) [µm].")
+@click.option("--revolutions", type=int, default=10, show_default=True)
+@click.option("--samples", "samples", type=int, default=4500, show_default=True,
+              help="Samples per revolution (4 rev/h at 5 Hz: 4500).")
+@click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
+def simulate_record_cmd(
+    design: str | None,
+    example: str | None,
+    output: str,
+    truth_a: str,
+    truth_b: str,
+    noise_um: float,
+    revolutions: int,
+    samples: int,
+    seed: int,
+) -> None:
+    """Simulate the fixture's indicator record of the same parts as two simulated scans.
+
+    The centre-distance variation is the exact fixture simulation (THEORY §5) of cams with
+    the profile errors of SCAN_A.truth.json and SCAN_B.truth.json and the follower's
+    constant errors of the design's [inspection] table (e.g. cw11-experiment: Table 2).
+    """
+
+    def body() -> int:
+        check_output_path(output, "--output", [".csv"])
+        from camtol.exceptions import InputFileError
+        from camtol.inspection import simulate_record, write_indicator_csv
+        from camtol.inspection.fixture import FixtureErrors, fixture_spec_from_mapping
+        from camtol.inspection.twin import error_from_truth, fixture_delta_f
+
+        d = load_input(design, example)
+        errs = []
+        kinds = set()
+        for path in (truth_a, truth_b):
+            try:
+                raw = json.loads(Path(path).read_text(encoding="utf-8"))
+            except (OSError, ValueError) as exc:
+                raise InputFileError(f"{path}: cannot read the truth JSON ({exc})") from None
+            err, kind = error_from_truth(raw, source=path)
+            errs.append(err)
+            kinds.add(kind)
+        if len(kinds) > 1:
+            fail("--truth-a and --truth-b apply their errors differently (radial/normal)")
+        raw_spec = d.extras.get("inspection")
+        errors = fixture_spec_from_mapping(raw_spec).errors if raw_spec else FixtureErrors()
+        df = fixture_delta_f(d, errs[0], errs[1], errors, error_kind=kinds.pop())
+        rec = simulate_record(
+            df, revolutions=revolutions, samples_per_revolution=samples, noise_um=noise_um, rng=seed
+        )
+        write_indicator_csv(rec, output)
+        click.echo(f"wrote {output} ({rec.df_um.size} samples, {revolutions} revolutions)")
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))

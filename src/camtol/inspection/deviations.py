@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camtol.design import CamDesign
-from camtol.exceptions import DesignError, InputFileError
+from camtol.exceptions import DesignError, GeometryError, InputFileError
 from camtol.inspection.cmm import CamLabel, Scan, check_coverage
 from camtol.inspection.profile_table import ProfileTable, profile_table
 from camtol.inspection.registration import Datum, Registration, register
@@ -319,9 +319,18 @@ def inspect_scan(
         cx, cy, _ = fit_circle(bx, by)
         centre = (cx, cy)
     check_coverage(scan.source, px - centre[0], py - centre[1])
-    reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
-    xc, yc = reg.to_cam(px, py)
-    t, dn, nx, ny = prof.table.closest(xc, yc)
+    wrong = (
+        f"{scan.source}: the points do not match the nominal profile of cam {prof.label} of"
+        f" {design.name!r}"
+    )
+    try:
+        reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
+        xc, yc = reg.to_cam(px, py)
+        t, dn, nx, ny = prof.table.closest(xc, yc)
+    except GeometryError:
+        raise InputFileError(
+            f"{wrong} (no closest profile point found for some): is this a scan of that cam?"
+        ) from None
     outlier = np.zeros(px.size, dtype=bool)
     outlier[reg.outliers] = True
     kept = ~outlier
@@ -329,9 +338,8 @@ def inspect_scan(
     p90 = float(np.quantile(np.abs(dn[kept]), 0.9))
     if p90 > limit:
         raise InputFileError(
-            f"{scan.source}: after registration 10% of the points lie more than {p90:.3g} mm"
-            f" from the nominal profile of cam {prof.label} of {design.name!r}, beyond any"
-            f" plausible tolerance ({limit:g} mm): is this a scan of that cam?"
+            f"{wrong}: after registration 10% of them lie more than {p90:.3g} mm from it,"
+            f" beyond any plausible tolerance ({limit:g} mm): is this a scan of that cam?"
         )
     dr = prof.table.radial(xc, yc, t)
     jac = _free_jacobian(reg, xc, yc, nx, ny)

@@ -36,6 +36,7 @@ from camtol.jet import FloatArray
 __all__ = [
     "ErrorKind",
     "ScanTruth",
+    "error_from_truth",
     "SimulatedScan",
     "fixture_delta_f",
     "random_profile_error",
@@ -348,3 +349,41 @@ def fixture_delta_f(
     )
     df = res.extras["delta_f_mm"] * 1e3
     return ErrorFunction.table(np.degrees(theta), df, name="simulated fixture Δf")
+
+
+def error_from_truth(truth: dict[str, Any], *, source: str = "truth") -> tuple[FourierError, ErrorKind]:
+    """The profile error of a ``scan.truth.json`` (as written by :func:`simulate_scan`).
+
+    Parameters
+    ----------
+    truth : dict
+        The parsed JSON.
+    source : str
+        File name for messages.
+
+    Returns
+    -------
+    (FourierError, str)
+        The error (mm) and its kind (``radial`` or ``normal``).
+
+    Raises
+    ------
+    InputFileError
+        If ``profile_error`` is missing or malformed.
+    """
+    from camtol.exceptions import InputFileError
+
+    pe = truth.get("profile_error") if isinstance(truth, dict) else None
+    try:
+        assert isinstance(pe, dict)
+        kind = pe.get("kind", "radial")
+        assert kind in ("radial", "normal")
+        mean = float(pe.get("mean_um", 0.0))
+        cos = [float(v) for v in pe.get("cos_um", [])]
+        sin = [float(v) for v in pe.get("sin_um", [])]
+    except (AssertionError, TypeError, ValueError):
+        raise InputFileError(
+            f"{source}: 'profile_error' must hold kind (radial/normal), mean_um, cos_um, sin_um"
+        ) from None
+    err = FourierError(mean * 1e-3, tuple(c * 1e-3 for c in cos), tuple(s * 1e-3 for s in sin))
+    return err, kind
