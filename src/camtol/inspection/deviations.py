@@ -325,8 +325,12 @@ def inspect_scan(
     )
     try:
         reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
-        xc, yc = reg.to_cam(px, py)
-        t, dn, nx, ny = prof.table.closest(xc, yc)
+        pts = reg.points
+        if pts is None:
+            xc, yc = reg.to_cam(px, py)
+            t, dn, nx, ny = prof.table.closest(xc, yc)
+        else:
+            xc, yc, t, dn, nx, ny = pts.x_mm, pts.y_mm, pts.param_rad, pts.dn_mm, pts.nx, pts.ny
     except GeometryError:
         raise InputFileError(
             f"{wrong} (no closest profile point found for some): is this a scan of that cam?"

@@ -30,9 +30,15 @@ from camtol.contact import AnalyticShape, FourierError, follow
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
 from camtol.inspection.deviations import CamProfile, CmmInspection
-from camtol.jet import FloatArray
+from camtol.jet import FloatArray, Jet
 
-__all__ = ["DEFAULT_HARMONICS", "FunctionalDeviation", "fourier_fit", "functional_deviation"]
+__all__ = [
+    "DEFAULT_HARMONICS",
+    "FunctionalDeviation",
+    "SampledFourier",
+    "fourier_fit",
+    "functional_deviation",
+]
 
 #: Default Fourier cut-off of the smoothing (harmonics per revolution).
 DEFAULT_HARMONICS = 100
@@ -83,12 +89,56 @@ def fourier_fit(t_rad: ArrayLike, values_mm: ArrayLike, harmonics: int) -> Fouri
     k = np.arange(1, harmonics + 1)
     arg = t[:, None] * k[None, :]
     a = np.concatenate([np.ones((t.size, 1)), np.cos(arg), np.sin(arg)], axis=1)
-    coef = np.linalg.lstsq(a, v, rcond=None)[0]
+    # Normal equations (well conditioned for points spread round the revolution: AᵀA is
+    # nearly N/2 times the identity), far cheaper than an SVD of A.
+    coef = np.linalg.solve(a.T @ a, a.T @ v)
     return FourierError(
         float(coef[0]),
         tuple(coef[1 : harmonics + 1].tolist()),
         tuple(coef[harmonics + 1 :].tolist()),
     )
+
+
+class SampledFourier:
+    """A Fourier series Δ(t) evaluated fast: exact values and derivatives on a fine grid
+    (inverse FFT, at least 128 nodes per highest harmonic), quintic Hermite between nodes
+    (errors O(h⁶) in Δ, O(h⁴) in Δ''; about 1e-13 mm and 1e-9 relative for 100 harmonics).
+    A :class:`~camtol.contact.ProfileError`.
+
+    Parameters
+    ----------
+    series : FourierError
+        The series. [mm]
+    nodes : int
+        Grid nodes per revolution.
+    """
+
+    def __init__(self, series: FourierError, nodes: int = 8192) -> None:
+        from camtol.inspection.profile_table import _quintic
+
+        k_max = max(len(series.cos_mm), len(series.sin_mm))
+        m = max(nodes, 128 * (k_max + 1))
+        spec = np.zeros(m // 2 + 1, dtype=complex)
+        spec[0] = series.mean_mm * m
+        for k, a in enumerate(series.cos_mm, start=1):
+            spec[k] += 0.5 * m * a
+        for k, b in enumerate(series.sin_mm, start=1):
+            spec[k] -= 0.5j * m * b
+        ik = 1j * np.arange(spec.size)
+        v, d1, d2 = (np.fft.irfft(spec * ik**p, m) for p in (0, 1, 2))
+        self.h = 2 * math.pi / m
+        self.coef = _quintic(v, d1, d2, np.roll(v, -1), np.roll(d1, -1), np.roll(d2, -1),
+                             np.full(m, self.h))
+        self.series = series
+
+    def __call__(self, theta_rad: FloatArray) -> Jet:
+        """Δ and its first two derivatives. [mm, mm/rad, mm/rad²]"""
+        from camtol.inspection.profile_table import _horner
+
+        t = np.mod(np.asarray(theta_rad, dtype=float), 2 * math.pi) / self.h
+        j = np.minimum(t.astype(np.intp), self.coef.shape[0] - 1)
+        v, d, dd = _horner(self.coef[j].T, t - j)
+        return Jet(v, d / self.h, dd / (self.h * self.h))
 
 
 @dataclass(frozen=True)
@@ -164,7 +214,7 @@ def functional_deviation(
     else:
         err = source
     mech, program = profile.mechanism, profile.design.program
-    shape = AnalyticShape(mech, program, normal_error=err)
+    shape = AnalyticShape(mech, program, normal_error=SampledFourier(err))
     motion = follow(theta, shape, mech)
     nominal = program.evaluate(theta)
     sens = mech.error_sensitivities(theta, nominal.lift, nominal.velocity)["n"]

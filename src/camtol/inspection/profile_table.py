@@ -191,21 +191,31 @@ class ProfileTable:
             cx, cy = self.coef_x[j].T, self.coef_y[j].T
             ax, ay = qx[active], qy[active]
             tol = 1e-13 / float(np.max(h))
+            # Points drop out of the iteration as they converge (most do in 2-3 steps).
+            live = np.arange(u.size)
+            lcx, lcy, lax, lay, lu = cx, cy, ax, ay, u.copy()
             for _ in range(30):
-                x, dx, ddx = _horner(cx, u)
-                y, dy, ddy = _horner(cy, u)
+                x, dx, ddx = _horner(lcx, lu)
+                y, dy, ddy = _horner(lcy, lu)
                 if radial:  # g = P × û = 0 with û along the point
-                    f = x * ay - y * ax
-                    fp = dx * ay - dy * ax
+                    f = x * lay - y * lax
+                    fp = dx * lay - dy * lax
                 else:  # (P − p)·P' = 0
-                    ex, ey = x - ax, y - ay
+                    ex, ey = x - lax, y - lay
                     f = ex * dx + ey * dy
                     fp = dx * dx + dy * dy + ex * ddx + ey * ddy
                     fp = np.where(fp > 0, fp, dx * dx + dy * dy)
                 du = np.clip(-f / fp, -1.0, 1.0)
-                u = u + du
-                if np.max(np.abs(du)) < tol:
+                lu = lu + du
+                busy = np.abs(du) >= tol
+                n_busy = int(np.count_nonzero(busy))
+                if n_busy == 0:
                     break
+                if n_busy < 0.75 * lu.size:
+                    u[live] = lu
+                    live, lu = live[busy], lu[busy]
+                    lcx, lcy, lax, lay = lcx[:, busy], lcy[:, busy], lax[busy], lay[busy]
+            u[live] = lu
             x, dx, _ = _horner(cx, u)
             y, dy, _ = _horner(cy, u)
             t[active] = np.mod(self.nodes_rad[j] + u * h, TWO_PI)

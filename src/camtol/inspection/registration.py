@@ -19,7 +19,7 @@ with their exact Jacobian (the closest point moves along the profile, so ∂Δn/
 Gauss-Newton with the loss's weights (iteratively reweighted least squares: a few
 closest-point solves), or by :func:`scipy.optimize.least_squares` itself (``solver="scipy"``,
 the slower reference; both reach the same minimum). The rotation starts from a coarse
-search (1°, then 0.05°) of the median radial misfit. Standard uncertainties follow from the Jacobian at the solution,
+search (1°, then 0.1°) of the median radial misfit. Standard uncertainties follow from the Jacobian at the solution,
 cov = s² (JᵀJ)⁻¹ with s² the residual variance of the points kept.
 
 Outliers are points far from their neighbours' trend (a running median of Δn along the
@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
@@ -42,7 +42,15 @@ from camtol.inspection.cmm import fit_circle
 from camtol.inspection.profile_table import ProfileTable
 from camtol.jet import FloatArray
 
-__all__ = ["Datum", "DatumMode", "Loss", "Registration", "find_outliers", "register"]
+__all__ = [
+    "Datum",
+    "DatumMode",
+    "Loss",
+    "RegisteredPoints",
+    "Registration",
+    "find_outliers",
+    "register",
+]
 
 DatumMode = Literal["fit", "fit-rotation", "bore", "centre"]
 Loss = Literal["linear", "soft_l1", "huber"]
@@ -77,7 +85,10 @@ class Datum:
     loss : {"soft_l1", "huber", "linear"}
         Loss of the robust fit.
     f_scale_mm : float
-        Soft margin of the robust loss: residuals beyond it count less than squared. [mm]
+        Smallest soft margin of the robust loss (residuals beyond the margin count less
+        than squared); the margin used is 3 robust standard deviations (1.4826 × MAD) of
+        the starting residuals when larger: the loss then guards against gross errors
+        while the form deviations of the cam keep their full weight. [mm]
     outlier_sigma : float
         Outlier threshold in robust standard deviations of the local residual.
     outlier_floor_mm : float
@@ -119,6 +130,30 @@ class Datum:
 
 
 @dataclass(frozen=True)
+class RegisteredPoints:
+    """Points in the cam frame and their closest nominal points at a registration.
+
+    Attributes
+    ----------
+    x_mm, y_mm : ndarray
+        Points in the cam frame. [mm]
+    param_rad : ndarray
+        Profile parameter of the closest point. [rad]
+    dn_mm : ndarray
+        Normal deviation. [mm]
+    nx, ny : ndarray
+        Outward unit normal at the closest point.
+    """
+
+    x_mm: FloatArray
+    y_mm: FloatArray
+    param_rad: FloatArray
+    dn_mm: FloatArray
+    nx: FloatArray
+    ny: FloatArray
+
+
+@dataclass(frozen=True)
 class Registration:
     """Placement of the cam frame in the CMM frame: x_CMM = R(φ) x_cam + d.
 
@@ -136,6 +171,9 @@ class Registration:
         Indices (into the profile points given) of the outliers found.
     warnings : tuple of str
         E.g. that a best fit hides eccentricity.
+    points : RegisteredPoints or None
+        The points in the cam frame with their closest profile points at the solution
+        (saves solving them again).
     """
 
     mode: str
@@ -148,6 +186,7 @@ class Registration:
     fitted: tuple[str, ...]
     outliers: NDArray[np.intp]
     warnings: tuple[str, ...] = ()
+    points: RegisteredPoints | None = field(default=None, repr=False, compare=False)
 
     def to_cam(self, x_mm: FloatArray, y_mm: FloatArray) -> tuple[FloatArray, FloatArray]:
         """CMM coordinates into the cam frame: x_cam = R(−φ)(x − d). [mm]
@@ -171,8 +210,8 @@ def _to_cam(
 def _coarse_rotation(
     table: ProfileTable, x: FloatArray, y: FloatArray, dx: float, dy: float
 ) -> float:
-    """Rotation minimising the median radial misfit, searched every 1° then 0.05°. [rad]"""
-    step = max(1, x.size // 240)
+    """Rotation minimising the median radial misfit, searched every 1° then 0.1°. [rad]"""
+    step = max(1, x.size // 120)
     u, v = x[::step] - dx, y[::step] - dy
     r, pol = np.hypot(u, v), np.arctan2(v, u)
     nodes_x, nodes_y, *_ = table.evaluate(table.nodes_rad[:-1])
@@ -186,7 +225,7 @@ def _coarse_rotation(
 
     coarse = np.radians(np.arange(0.0, 360.0, 1.0))
     best = float(coarse[int(np.argmin(cost(coarse)))])
-    fine = best + np.radians(np.arange(-1.0, 1.0001, 0.05))
+    fine = best + np.radians(np.arange(-1.0, 1.0001, 0.1))
     return float(fine[int(np.argmin(cost(fine)))])
 
 
@@ -303,7 +342,7 @@ def register(
             cols += [-(nx * c - ny * s), -(nx * s + ny * c)]
         return np.stack(cols, axis=1) if cols else np.zeros((xc.size, 0))
 
-    def solve(params: FloatArray, idx: NDArray[np.intp]) -> FloatArray:
+    def solve(params: FloatArray, idx: NDArray[np.intp], tol: float = 1e-10) -> FloatArray:
         if not names:
             return params
         idx = idx[:: max(1, idx.size // FIT_POINTS)]
@@ -311,26 +350,42 @@ def register(
         if solver == "scipy":
             return _solve_scipy(table, sx, sy, params, unpack, jac_rows, datum)
         t_prev: FloatArray | None = None
-        for _ in range(60):  # Gauss-Newton with the robust loss's weights (IRLS)
+        f_scale = 0.0
+        for _ in range(30):
+            # Gauss-Newton: the deviations are linear in the transform near the current
+            # closest points (exact to first order), so the robust loss's weights are
+            # iterated on that linear model (IRLS, cheap), then the closest points solved
+            # again at the new transform.
             phi, ddx, ddy = unpack(params)
             xc, yc = _to_cam(phi, ddx, ddy, sx, sy)
             t_prev, dn, nx, ny = table.closest(xc, yc, t_prev)
             j = jac_rows(phi, xc, yc, nx, ny)
-            w = _weights(dn, datum.loss, datum.f_scale_mm)
-            jw = j * w[:, None]
-            step = np.linalg.lstsq(jw.T @ j, -(jw.T @ dn), rcond=None)[0]
+            if f_scale == 0.0:
+                f_scale = _auto_scale(dn, datum.f_scale_mm)
+            step = np.zeros(len(names))
+            for _ in range(100):
+                w = _weights(dn + j @ step, datum.loss, f_scale)
+                jw = j * w[:, None]
+                new = np.linalg.lstsq(jw.T @ j, -(jw.T @ dn), rcond=None)[0]
+                done = np.max(np.abs(new - step)) < 0.1 * tol
+                step = new
+                if done:
+                    break
             params = params + step
-            if np.max(np.abs(step)) < 1e-11:
+            if np.max(np.abs(step)) < tol:
                 break
         return params
 
-    params = solve(params0, np.arange(x_mm.size))
+    # A first fit to 1e-7 (mm, rad) finds the outliers; the fit without them converges.
+    params = solve(params0, np.arange(x_mm.size), 1e-7)
     phi, ddx, ddy = unpack(params)
     xc, yc = _to_cam(phi, ddx, ddy, x_mm, y_mm)
     t, dn, nx, ny = table.closest(xc, yc)
     outliers = find_outliers(t, dn, sigma=datum.outlier_sigma, floor_mm=datum.outlier_floor_mm)
-    keep = np.setdiff1d(np.arange(x_mm.size), outliers)
-    if outliers.size and names:  # fit again without them
+    is_out = np.zeros(x_mm.size, dtype=bool)
+    is_out[outliers] = True
+    keep = np.flatnonzero(~is_out)
+    if names:  # fit again without them, to full precision
         params = solve(params, keep)
         phi, ddx, ddy = unpack(params)
         xc, yc = _to_cam(phi, ddx, ddy, x_mm, y_mm)
@@ -362,7 +417,14 @@ def register(
         fitted=tuple(dict.fromkeys("translation" if n in ("dx", "dy") else n for n in names)),
         outliers=outliers,
         warnings=warnings,
+        points=RegisteredPoints(xc, yc, t, dn, nx, ny),
     )
+
+
+def _auto_scale(r: FloatArray, floor_mm: float) -> float:
+    """Soft margin of the robust loss: 3 robust standard deviations of r, at least the floor."""
+    mad = float(np.median(np.abs(r - np.median(r))))
+    return max(floor_mm, 3.0 * 1.4826 * mad)
 
 
 def _weights(r: FloatArray, loss: Loss, f_scale: float) -> FloatArray:
@@ -406,7 +468,7 @@ def _solve_scipy(
         params,
         jac=jac,
         loss=datum.loss,
-        f_scale=datum.f_scale_mm,
+        f_scale=_auto_scale(residual(params), datum.f_scale_mm),
         x_scale="jac",
         xtol=1e-15,
         ftol=1e-15,
