@@ -83,11 +83,18 @@ __all__ = ["conjugate"]
 )
 @click.option("--cmm-b", metavar="SCAN.csv", help="CMM scan of cam B (with --cmm-a).")
 @click.option(
-    "--cmm-stylus-radius-mm", "cmm_stylus_mm", type=float, default=0.0, show_default=True,
+    "--cmm-stylus-radius-mm",
+    "cmm_stylus_mm",
+    type=float,
+    default=0.0,
+    show_default=True,
     help="Stylus radius of the CMM scans (0: surface points) [mm].",
 )
 @click.option(
-    "--cmm-datum", default="fit", show_default=True, metavar="fit|fit-rotation|bore|centre:X,Y",
+    "--cmm-datum",
+    default="fit",
+    show_default=True,
+    metavar="fit|fit-rotation|bore|centre:X,Y",
     help="Registration of the CMM scans (as `camtol inspect --datum`).",
 )
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
@@ -182,8 +189,14 @@ def conjugate(
             from camtol.cli_inspect import cmm_pair_masters
 
             spec, comparison = cmm_pair_masters(
-                d, spec, cmm_a, cmm_b, stylus_radius_mm=cmm_stylus_mm, datum_text=cmm_datum,
-                master_given=(master_a is not None, master_b is not None), step_deg=step_deg,
+                d,
+                spec,
+                cmm_a,
+                cmm_b,
+                stylus_radius_mm=cmm_stylus_mm,
+                datum_text=cmm_datum,
+                master_given=(master_a is not None, master_b is not None),
+                step_deg=step_deg,
             )
         res = inspect_conjugate(d, spec, step_deg=step_deg)
         if record_path is not None:
@@ -204,14 +217,14 @@ def conjugate(
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             if comparison is not None:
-                data["cmm_comparison"] = comparison.summary()  # type: ignore[attr-defined]
+                data["cmm_comparison"] = comparison.summary()
             click.echo(json.dumps(data, indent=2, default=_json_default))
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
             if comparison is not None:
                 from camtol.cli_inspect import cmm_comparison_lines
 
-                for line in cmm_comparison_lines(comparison.summary()):  # type: ignore[attr-defined]
+                for line in cmm_comparison_lines(comparison.summary()):
                     click.echo(line)
         return EXIT_FAIL if res.passed is False else EXIT_OK
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -23,6 +24,12 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+
+if TYPE_CHECKING:
+    from camtol.design import CamDesign
+    from camtol.inspection.cmm_fixture import CmmFixtureComparison
+    from camtol.inspection.fixture import FixtureSpec
+    from camtol.inspection.registration import Datum
 
 __all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
 
@@ -51,23 +58,38 @@ def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float,
 
 
 def parse_columns(text: str | None) -> dict[str, str] | None:
-    """Parse ``--columns X=x_mm,Y=y_mm`` into a header mapping."""
+    """Parse ``--columns X=x_mm,Y=y_mm`` into a header mapping.
+
+    Parameters
+    ----------
+    text : str or None
+        The option's value (None: no mapping).
+    """
     if text is None:
         return None
     out: dict[str, str] = {}
     for part in text.split(","):
         name, sep, target = part.partition("=")
         if not sep or not name.strip() or not target.strip():
-            fail(
-                f"--columns={text!r} is not allowed; give NAME=column pairs such as"
-                " X=x_mm,Y=y_mm"
-            )
+            fail(f"--columns={text!r} is not allowed; give NAME=column pairs such as X=x_mm,Y=y_mm")
         out[name.strip()] = target.strip()
     return out
 
 
-def parse_datum(text: str, angle: float | None, point: str | None, loss: str) -> object:
-    """Build the registration :class:`~camtol.inspection.registration.Datum` from options."""
+def parse_datum(text: str, angle: float | None, point: str | None, loss: str) -> Datum:
+    """Build the registration :class:`~camtol.inspection.registration.Datum` from options.
+
+    Parameters
+    ----------
+    text : str
+        ``--datum``: fit, fit-rotation, bore, centre:X,Y or centre:X,Y,DEG. [mm, deg]
+    angle : float or None
+        ``--datum-angle``. [deg]
+    point : str or None
+        ``--datum-point`` X,Y,DEG. [mm, mm, deg]
+    loss : str
+        ``--loss``.
+    """
     from camtol.inspection.registration import Datum
 
     centre = None
@@ -102,37 +124,94 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 
 @click.command()
 @design_options
-@click.option("--points", "points_path", required=True, metavar="FILE.csv",
-              help="CMM point file: columns x_mm, y_mm [, z_mm, bore, cam] (units in names).")
-@click.option("--cam", type=click.Choice(["A", "B"]), default="A", show_default=True,
-              help="Which cam of a conjugate pair the scan is.")
-@click.option("--stylus-radius-mm", "stylus_mm", type=float, default=0.0, show_default=True,
-              help="Stylus-ball radius: the points are ball centres, compensated along the"
-              " local normal (0: surface points) [mm].")
-@click.option("--columns", metavar="NAME=col,...",
-              help="Map the file's column names, e.g. X=x_mm,Y=y_mm.")
-@click.option("--datum", "datum_text", default="fit", show_default=True,
-              metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
-              help="Registration: best fit (rotation+translation), rotation only, bore circle"
-              " (points flagged bore=1) or a given centre [mm] (and stated angle [deg]).")
-@click.option("--datum-angle", "datum_angle", type=float, metavar="DEG",
-              help="Stated rotation of the cam's reference radial in the CMM frame [deg]"
-              " (with bore or centre).")
-@click.option("--datum-point", "datum_point", metavar="X,Y,DEG",
-              help="A datum point (keyway) in CMM mm at this nominal polar angle [deg].")
-@click.option("--loss", type=click.Choice(["soft_l1", "huber", "linear"]), default="soft_l1",
-              show_default=True, help="Robust loss of the best fit.")
-@click.option("--tolerance-um", "tolerance", metavar="LO,HI",
-              help="Profile tolerance on Δn [µm] (default: the design's).")
-@click.option("--harmonics", type=int, default=100, show_default=True,
-              help="Fourier cut-off smoothing Δn for the follower error.")
-@click.option("--step", "step_deg", type=float, default=0.1, show_default=True,
-              help="Cam-angle step of the follower error [deg].")
+@click.option(
+    "--points",
+    "points_path",
+    required=True,
+    metavar="FILE.csv",
+    help="CMM point file: columns x_mm, y_mm [, z_mm, bore, cam] (units in names).",
+)
+@click.option(
+    "--cam",
+    type=click.Choice(["A", "B"]),
+    default="A",
+    show_default=True,
+    help="Which cam of a conjugate pair the scan is.",
+)
+@click.option(
+    "--stylus-radius-mm",
+    "stylus_mm",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Stylus-ball radius: the points are ball centres, compensated along the"
+    " local normal (0: surface points) [mm].",
+)
+@click.option(
+    "--columns", metavar="NAME=col,...", help="Map the file's column names, e.g. X=x_mm,Y=y_mm."
+)
+@click.option(
+    "--datum",
+    "datum_text",
+    default="fit",
+    show_default=True,
+    metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
+    help="Registration: best fit (rotation+translation), rotation only, bore circle"
+    " (points flagged bore=1) or a given centre [mm] (and stated angle [deg]).",
+)
+@click.option(
+    "--datum-angle",
+    "datum_angle",
+    type=float,
+    metavar="DEG",
+    help="Stated rotation of the cam's reference radial in the CMM frame [deg]"
+    " (with bore or centre).",
+)
+@click.option(
+    "--datum-point",
+    "datum_point",
+    metavar="X,Y,DEG",
+    help="A datum point (keyway) in CMM mm at this nominal polar angle [deg].",
+)
+@click.option(
+    "--loss",
+    type=click.Choice(["soft_l1", "huber", "linear"]),
+    default="soft_l1",
+    show_default=True,
+    help="Robust loss of the best fit.",
+)
+@click.option(
+    "--tolerance-um",
+    "tolerance",
+    metavar="LO,HI",
+    help="Profile tolerance on Δn [µm] (default: the design's).",
+)
+@click.option(
+    "--harmonics",
+    type=int,
+    default=100,
+    show_default=True,
+    help="Fourier cut-off smoothing Δn for the follower error.",
+)
+@click.option(
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    help="Cam-angle step of the follower error [deg].",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-@click.option("--curves", metavar="FILE.csv",
-              help="Write x_mm, y_mm, theta_deg, dn_um, dr_um per measured point.")
-@click.option("--motion", metavar="FILE.csv",
-              help="Write theta_deg, dS_measured_<unit>, dS_linear_<unit> per cam angle.")
+@click.option(
+    "--curves",
+    metavar="FILE.csv",
+    help="Write x_mm, y_mm, theta_deg, dn_um, dr_um per measured point.",
+)
+@click.option(
+    "--motion",
+    metavar="FILE.csv",
+    help="Write theta_deg, dS_measured_<unit>, dS_linear_<unit> per cam angle.",
+)
 @click.option("--plot", metavar="FILE.png", help="Write the inspection figure (PNG/SVG/PDF).")
 @click.option("--report", "report_path", metavar="FILE.html", help="Write an HTML report.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
@@ -220,7 +299,9 @@ def inspect(
             from camtol.report.files import atomic_write
             from camtol.report.html import figure_svg
 
-            atomic_write(report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp")))
+            atomic_write(
+                report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp"))
+            )
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
@@ -233,10 +314,9 @@ def inspect(
     raise _Exit(run_guarded(body))
 
 
-
 def cmm_pair_masters(
-    design: object,
-    spec: object,
+    design: CamDesign,
+    spec: FixtureSpec,
     cmm_a: str,
     cmm_b: str,
     *,
@@ -244,7 +324,7 @@ def cmm_pair_masters(
     datum_text: str,
     master_given: tuple[bool, bool],
     step_deg: float,
-) -> tuple[object, object]:
+) -> tuple[FixtureSpec, CmmFixtureComparison]:
     """Read both cams' scans for ``camtol conjugate --cmm-a/--cmm-b`` (issue 12 item 5).
 
     Each scan is registered and its Δn smoothed (:mod:`camtol.inspection.functional`);
@@ -265,25 +345,35 @@ def cmm_pair_masters(
     from camtol.inspection.cmm import read_scan
     from camtol.inspection.cmm_fixture import compare_cmm_fixture
     from camtol.inspection.deviations import inspect_scan
-    from camtol.inspection.fixture import ErrorFunction, FixtureSpec
+    from camtol.inspection.fixture import ErrorFunction
     from camtol.inspection.functional import DEFAULT_HARMONICS, fourier_fit
 
-    assert isinstance(spec, FixtureSpec)
     datum = parse_datum(datum_text, None, None, "soft_l1")
     normals = []
     for cam, path in (("A", cmm_a), ("B", cmm_b)):
         scan = read_scan(path, cam=cam, stylus_radius_mm=stylus_radius_mm)  # type: ignore[arg-type]
         tol = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
         insp = inspect_scan(design, scan, cam=cam, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
-        normals.append(fourier_fit(insp.param_rad[insp.kept], insp.dn_um[insp.kept] * 1e-3, DEFAULT_HARMONICS))
+        normals.append(
+            fourier_fit(insp.param_rad[insp.kept], insp.dn_um[insp.kept] * 1e-3, DEFAULT_HARMONICS)
+        )
     comp = compare_cmm_fixture(
-        design, normals[0], normals[1], spec.errors, df_mea=spec.df_mea, step_deg=step_deg  # type: ignore[arg-type]
+        design,
+        normals[0],
+        normals[1],
+        spec.errors,
+        df_mea=spec.df_mea,
+        step_deg=step_deg,
     )
     deg = np.degrees(comp.theta_rad)
     spec = dataclasses.replace(
         spec,
-        master_a=spec.master_a if master_given[0] else ErrorFunction.table(deg, comp.dr_a_cmm_um, name=f"CMM {cmm_a}"),
-        master_b=spec.master_b if master_given[1] else ErrorFunction.table(deg, comp.dr_b_cmm_um, name=f"CMM {cmm_b}"),
+        master_a=spec.master_a
+        if master_given[0]
+        else ErrorFunction.table(deg, comp.dr_a_cmm_um, name=f"CMM {cmm_a}"),
+        master_b=spec.master_b
+        if master_given[1]
+        else ErrorFunction.table(deg, comp.dr_b_cmm_um, name=f"CMM {cmm_b}"),
     )
     return spec, comp
 
@@ -291,8 +381,9 @@ def cmm_pair_masters(
 def cmm_comparison_lines(summary: dict[str, float]) -> list[str]:
     """Text lines of the CMM-fixture comparison ([CW11] Table 4 figures, µm)."""
     lines = [
-        f"CMM: rms Δr_A {summary['rms_dr_A_cmm_um']:.2f} µm, rms Δr_B {summary['rms_dr_B_cmm_um']:.2f} µm;"
-        f" fixture predicted from the CMM profiles: rms Δf {summary['rms_df_twin_um']:.2f} µm (exact),"
+        f"CMM: rms Δr_A {summary['rms_dr_A_cmm_um']:.2f} µm,"
+        f" rms Δr_B {summary['rms_dr_B_cmm_um']:.2f} µm; fixture predicted from the CMM"
+        f" profiles: rms Δf {summary['rms_df_twin_um']:.2f} µm (exact),"
         f" {summary['rms_df_est_um']:.2f} µm (eqs. 14-18)"
     ]
     if "rms_df_mea_um" in summary:

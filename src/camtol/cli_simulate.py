@@ -13,7 +13,15 @@ from pathlib import Path
 
 import click
 
-from camtol.cli import EXIT_OK, _Exit, check_output_path, design_options, fail, load_input, run_guarded
+from camtol.cli import (
+    EXIT_OK,
+    _Exit,
+    check_output_path,
+    design_options,
+    fail,
+    load_input,
+    run_guarded,
+)
 
 __all__ = ["simulate"]
 
@@ -25,30 +33,87 @@ def simulate() -> None:
 
 @simulate.command("cmm")
 @design_options
-@click.option("--output", "-o", "output", required=True, metavar="SCAN.csv",
-              help="Scan file to write (x_mm, y_mm); the truth goes to SCAN.truth.json.")
-@click.option("--cam", type=click.Choice(["A", "B"]), default="A", show_default=True,
-              help="Which cam of a conjugate pair.")
+@click.option(
+    "--output",
+    "-o",
+    "output",
+    required=True,
+    metavar="SCAN.csv",
+    help="Scan file to write (x_mm, y_mm); the truth goes to SCAN.truth.json.",
+)
+@click.option(
+    "--cam",
+    type=click.Choice(["A", "B"]),
+    default="A",
+    show_default=True,
+    help="Which cam of a conjugate pair.",
+)
 @click.option("--points", type=int, default=3600, show_default=True, help="Profile points.")
-@click.option("--noise-um", type=float, default=1.0, show_default=True,
-              help="Probe noise along the normal (standard deviation) [µm].")
+@click.option(
+    "--noise-um",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help="Probe noise along the normal (standard deviation) [µm].",
+)
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
-@click.option("--stylus-radius-mm", "stylus_mm", type=float, default=0.0, show_default=True,
-              help="Write stylus-ball centres of this radius (0: surface points) [mm].")
-@click.option("--eccentricity-um", type=float, default=0.0, show_default=True,
-              help="Placement offset of the cam centre on the machine [µm].")
-@click.option("--eccentricity-deg", type=float, default=0.0, show_default=True,
-              help="Direction of the offset [deg].")
-@click.option("--rotation-deg", type=float, default=0.0, show_default=True,
-              help="Placement rotation of the cam on the machine [deg].")
-@click.option("--outliers", type=int, default=0, show_default=True,
-              help="Points thrown off the surface by 50-100 µm.")
-@click.option("--error-rms-um", type=float, default=0.0, show_default=True,
-              help="rms of a random Fourier profile error (harmonics 2-20, amplitude ∝ 1/k) [µm].")
-@click.option("--error-mean-um", type=float, default=0.0, show_default=True,
-              help="Constant part of the profile error (material added) [µm].")
-@click.option("--error-kind", type=click.Choice(["radial", "normal"]), default="radial",
-              show_default=True, help="Profile error along O2A (radial) or along the normal.")
+@click.option(
+    "--stylus-radius-mm",
+    "stylus_mm",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Write stylus-ball centres of this radius (0: surface points) [mm].",
+)
+@click.option(
+    "--eccentricity-um",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Placement offset of the cam centre on the machine [µm].",
+)
+@click.option(
+    "--eccentricity-deg",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Direction of the offset [deg].",
+)
+@click.option(
+    "--rotation-deg",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Placement rotation of the cam on the machine [deg].",
+)
+@click.option(
+    "--outliers",
+    type=int,
+    default=0,
+    show_default=True,
+    help="Points thrown off the surface by 50-100 µm.",
+)
+@click.option(
+    "--error-rms-um",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="rms of a random Fourier profile error (harmonics 2-20, amplitude ∝ 1/k) [µm].",
+)
+@click.option(
+    "--error-mean-um",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Constant part of the profile error (material added) [µm].",
+)
+@click.option(
+    "--error-kind",
+    type=click.Choice(["radial", "normal"]),
+    default="radial",
+    show_default=True,
+    help="Profile error along O2A (radial) or along the normal.",
+)
 def simulate_cmm(
     design: str | None,
     example: str | None,
@@ -113,17 +178,42 @@ def simulate_cmm(
 
 @simulate.command("record")
 @design_options
-@click.option("--output", "-o", "output", required=True, metavar="RECORD.csv",
-              help="Indicator record to write (time_s, df_um, index).")
-@click.option("--truth-a", required=True, metavar="SCAN_A.truth.json",
-              help="Truth of the simulated CMM scan of cam A (its profile error).")
-@click.option("--truth-b", required=True, metavar="SCAN_B.truth.json",
-              help="Truth of the simulated CMM scan of cam B.")
-@click.option("--noise-um", type=float, default=0.5, show_default=True,
-              help="Indicator noise per sample (standard deviation) [µm].")
+@click.option(
+    "--output",
+    "-o",
+    "output",
+    required=True,
+    metavar="RECORD.csv",
+    help="Indicator record to write (time_s, df_um, index).",
+)
+@click.option(
+    "--truth-a",
+    required=True,
+    metavar="SCAN_A.truth.json",
+    help="Truth of the simulated CMM scan of cam A (its profile error).",
+)
+@click.option(
+    "--truth-b",
+    required=True,
+    metavar="SCAN_B.truth.json",
+    help="Truth of the simulated CMM scan of cam B.",
+)
+@click.option(
+    "--noise-um",
+    type=float,
+    default=0.5,
+    show_default=True,
+    help="Indicator noise per sample (standard deviation) [µm].",
+)
 @click.option("--revolutions", type=int, default=10, show_default=True)
-@click.option("--samples", "samples", type=int, default=4500, show_default=True,
-              help="Samples per revolution (4 rev/h at 5 Hz: 4500).")
+@click.option(
+    "--samples",
+    "samples",
+    type=int,
+    default=4500,
+    show_default=True,
+    help="Samples per revolution (4 rev/h at 5 Hz: 4500).",
+)
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
 def simulate_record_cmd(
     design: str | None,

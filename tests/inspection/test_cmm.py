@@ -71,8 +71,16 @@ def test_twin_registration_within_1um_and_0_001deg(cw11, cam: str) -> None:  # t
     # Issue 12: a 1 µm-noise scan of 3,600 points registers within 1 µm and 0.001°, and
     # the outliers are found, by index.
     sim = simulate_scan(
-        cw11, cam=cam, points=3600, noise_um=1.0, seed=4, rotation_deg=23.4,  # type: ignore[arg-type]
-        eccentricity_um=80.0, eccentricity_deg=70.0, outliers=6, stylus_radius_mm=1.0,
+        cw11,
+        cam=cam,
+        points=3600,
+        noise_um=1.0,
+        seed=4,
+        rotation_deg=23.4,  # type: ignore[arg-type]
+        eccentricity_um=80.0,
+        eccentricity_deg=70.0,
+        outliers=6,
+        stylus_radius_mm=1.0,
     )
     scan = compensate_stylus(_scan(sim.x_mm, sim.y_mm), 1.0)
     res = inspect_scan(cw11, scan, cam=cam)  # type: ignore[arg-type]
@@ -93,8 +101,16 @@ def test_twin_round_trip_dn_within_probe_noise(cw11, cam: str) -> None:  # type:
     # within the probe noise, rms(Δn − truth) ≤ 1.2 σ (issue 12).
     err = random_profile_error(40.0, seed=7)
     sim = simulate_scan(
-        cw11, cam=cam, points=3600, noise_um=1.0, seed=5, rotation_deg=-7.0,  # type: ignore[arg-type]
-        eccentricity_um=50.0, outliers=3, profile_error=err, error_kind="normal",
+        cw11,
+        cam=cam,
+        points=3600,
+        noise_um=1.0,
+        seed=5,
+        rotation_deg=-7.0,  # type: ignore[arg-type]
+        eccentricity_um=50.0,
+        outliers=3,
+        profile_error=err,
+        error_kind="normal",
     )
     datum = Datum("centre", centre_mm=(sim.truth.dx_mm, sim.truth.dy_mm), angle_deg=-7.0)
     res = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), cam=cam, datum=datum)  # type: ignore[arg-type]
@@ -106,8 +122,15 @@ def test_twin_round_trip_dn_within_probe_noise(cw11, cam: str) -> None:  # type:
 
 
 def test_scipy_least_squares_and_irls_agree(cw11) -> None:  # type: ignore[no-untyped-def]
-    sim = simulate_scan(cw11, points=720, noise_um=2.0, seed=9, rotation_deg=3.0,
-                        eccentricity_um=30.0, profile_error=random_profile_error(20.0, seed=2))
+    sim = simulate_scan(
+        cw11,
+        points=720,
+        noise_um=2.0,
+        seed=9,
+        rotation_deg=3.0,
+        eccentricity_um=30.0,
+        profile_error=random_profile_error(20.0, seed=2),
+    )
     prof = cam_profile(cw11, "A")
     a = register(prof.table, sim.x_mm, sim.y_mm, Datum())
     b = register(prof.table, sim.x_mm, sim.y_mm, Datum(), solver="scipy")
@@ -120,11 +143,22 @@ def test_scipy_least_squares_and_irls_agree(cw11) -> None:  # type: ignore[no-un
 def test_perfect_scan_gives_zero_deviation_and_motion(name: str, cam: str) -> None:
     # Issue 12: a perfect scan of the nominal cam: |Δn| ≤ 1e-9 mm and |ΔS| ≤ 1e-9 mm.
     d = load_example(name)
-    sim = simulate_scan(d, cam=cam, points=1440, noise_um=0.0, rotation_deg=11.0,  # type: ignore[arg-type]
-                        eccentricity_um=25.0)
+    sim = simulate_scan(
+        d,
+        cam=cam,
+        points=1440,
+        noise_um=0.0,
+        rotation_deg=11.0,  # type: ignore[arg-type]
+        eccentricity_um=25.0,
+    )
     prof = cam_profile(d, cam)  # type: ignore[arg-type]
-    res = inspect_scan(d, _scan(sim.x_mm, sim.y_mm), cam=cam, profile=prof,  # type: ignore[arg-type]
-                       tolerance_um=(-10.0, 10.0))
+    res = inspect_scan(
+        d,
+        _scan(sim.x_mm, sim.y_mm),
+        cam=cam,
+        profile=prof,  # type: ignore[arg-type]
+        tolerance_um=(-10.0, 10.0),
+    )
     assert np.max(np.abs(res.dn_um)) <= 1e-6
     assert np.max(np.abs(res.dr_um)) <= 1e-6
     assert res.passed and not res.registration.outliers.size
@@ -172,8 +206,12 @@ def test_failing_cam_reports_its_angles(cw11) -> None:  # type: ignore[no-untype
     # A +60 µm bump of normal error centred at 90° on a ±50 µm tolerance: fails there only.
     bump = FourierError(0.0, cos_mm=(0.0,), sin_mm=(0.06,))
     sim = simulate_scan(cw11, points=3600, noise_um=0.0, profile_error=bump, error_kind="normal")
-    res = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=Datum("centre", centre_mm=(0.0, 0.0), angle_deg=0.0),
-                       tolerance_um=(-50.0, 50.0))
+    res = inspect_scan(
+        cw11,
+        _scan(sim.x_mm, sim.y_mm),
+        datum=Datum("centre", centre_mm=(0.0, 0.0), angle_deg=0.0),
+        tolerance_um=(-50.0, 50.0),
+    )
     assert not res.passed
     assert len(res.failing_intervals_deg) == 2  # +60 near 90° (param), −60 near 270°
     assert res.max_dn_um == pytest.approx(60.0, abs=0.01)

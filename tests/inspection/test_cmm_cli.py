@@ -24,11 +24,32 @@ def _run(capsys, *args: str) -> tuple[int, str, str]:  # type: ignore[no-untyped
 @pytest.fixture(scope="module")
 def scan_b(tmp_path_factory) -> Path:  # type: ignore[no-untyped-def]
     p = tmp_path_factory.mktemp("scan") / "b.csv"
-    code = main([
-        "simulate", "cmm", "--example", "cw11-experiment", "-o", str(p), "--cam", "B",
-        "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1", "--eccentricity-um", "40",
-        "--rotation-deg", "10", "--outliers", "4", "--error-rms-um", "50",
-    ])
+    code = main(
+        [
+            "simulate",
+            "cmm",
+            "--example",
+            "cw11-experiment",
+            "-o",
+            str(p),
+            "--cam",
+            "B",
+            "--noise-um",
+            "1",
+            "--seed",
+            "3",
+            "--stylus-radius-mm",
+            "1",
+            "--eccentricity-um",
+            "40",
+            "--rotation-deg",
+            "10",
+            "--outliers",
+            "4",
+            "--error-rms-um",
+            "50",
+        ]
+    )
     assert code == 0
     return p
 
@@ -45,8 +66,21 @@ def test_simulate_writes_scan_and_truth(scan_b: Path) -> None:
 def test_inspect_json_curves_motion(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     curves, motion = tmp_path / "c.csv", tmp_path / "m.csv"
     code, out, err = _run(
-        capsys, "inspect", "--example", "cw11-experiment", "--points", str(scan_b), "--cam", "B",
-        "--stylus-radius-mm", "1", "--json", "--curves", str(curves), "--motion", str(motion),
+        capsys,
+        "inspect",
+        "--example",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--stylus-radius-mm",
+        "1",
+        "--json",
+        "--curves",
+        str(curves),
+        "--motion",
+        str(motion),
     )
     assert code == 0, err
     data = json.loads(out)
@@ -73,9 +107,22 @@ def test_inspect_json_curves_motion(capsys, scan_b: Path, tmp_path: Path) -> Non
 def test_inspect_fails_with_exit_1_and_angles(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     plot, report = tmp_path / "p.png", tmp_path / "r.html"
     code, out, _ = _run(
-        capsys, "inspect", "-e", "cw11-experiment", "--points", str(scan_b), "--cam", "B",
-        "--stylus-radius-mm", "1", "--tolerance-um", "-20,20", "--plot", str(plot),
-        "--report", str(report),
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--stylus-radius-mm",
+        "1",
+        "--tolerance-um",
+        "-20,20",
+        "--plot",
+        str(plot),
+        "--report",
+        str(report),
     )
     assert code == 1
     assert "verdict: FAIL" in out and "outside at polar angles" in out
@@ -88,16 +135,28 @@ def test_inspect_bore_datum(capsys, tmp_path: Path) -> None:  # type: ignore[no-
     from camtol.inspection.twin import simulate_scan
 
     d = load_example("roller-translating")
-    sim = simulate_scan(d, points=720, noise_um=0.5, seed=1, eccentricity_um=300.0,
-                        eccentricity_deg=45.0)
+    sim = simulate_scan(
+        d, points=720, noise_um=0.5, seed=1, eccentricity_um=300.0, eccentricity_deg=45.0
+    )
     ang = np.linspace(0, 2 * math.pi, 60, endpoint=False)
     bx, by = sim.truth.dx_mm + 10 * np.cos(ang), sim.truth.dy_mm + 10 * np.sin(ang)
     p = tmp_path / "bore.csv"
     rows = [f"{x:.9f},{y:.9f},0" for x, y in zip(sim.x_mm, sim.y_mm, strict=True)]
     rows += [f"{x:.9f},{y:.9f},1" for x, y in zip(bx, by, strict=True)]
     p.write_text("X,Y,bore\n" + "\n".join(rows) + "\n")
-    code, out, err = _run(capsys, "inspect", "-e", "roller-translating", "--points", str(p),
-                          "--columns", "X=x_mm,Y=y_mm", "--datum", "bore", "--json")
+    code, out, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "roller-translating",
+        "--points",
+        str(p),
+        "--columns",
+        "X=x_mm,Y=y_mm",
+        "--datum",
+        "bore",
+        "--json",
+    )
     assert code == 0, err
     reg = json.loads(out)["registration"]
     assert reg["dx_mm"] == pytest.approx(sim.truth.dx_mm, abs=1e-9)
@@ -126,11 +185,14 @@ def _circle_rows(n: int, r: float = 60.0) -> list[str]:
         ("x,y\n" + "\n".join(_circle_rows(100)) + "\n", "has no unit"),
     ],
 )
-def test_bad_scan_exit_2_one_line_nothing_written(capsys, tmp_path: Path, content: str, needle: str) -> None:  # type: ignore[no-untyped-def]
+def test_bad_scan_exit_2_one_line_nothing_written(
+    capsys, tmp_path: Path, content: str, needle: str
+) -> None:  # type: ignore[no-untyped-def]
     p = _write(tmp_path / "scan.csv", content)
     curves = tmp_path / "c.csv"
-    code, out, err = _run(capsys, "inspect", "-e", "cw11-experiment", "--points", str(p),
-                          "--curves", str(curves))
+    code, out, err = _run(
+        capsys, "inspect", "-e", "cw11-experiment", "--points", str(p), "--curves", str(curves)
+    )
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0] and str(p) in lines[0]
@@ -139,8 +201,16 @@ def test_bad_scan_exit_2_one_line_nothing_written(capsys, tmp_path: Path, conten
 
 def test_scan_of_the_wrong_cam_is_refused(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     # Cam B's scan inspected as a roller-translating design's cam: far beyond any tolerance.
-    code, _, err = _run(capsys, "inspect", "-e", "roller-translating", "--points", str(scan_b),
-                        "--stylus-radius-mm", "1")
+    code, _, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "roller-translating",
+        "--points",
+        str(scan_b),
+        "--stylus-radius-mm",
+        "1",
+    )
     assert code == 2
     assert "is this a scan of that cam?" in err and len(err.strip().splitlines()) == 1
 
@@ -152,8 +222,9 @@ def test_table2_band_widths_from_the_constants() -> None:
     d = load_example("cw11-experiment")
     spec = fixture_spec_from_mapping(d.extras["inspection"])
     fac = conjugate_factors(np.radians([216.4, 219.3]), d)
-    b = acceptance_bands(fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a,
-                         spec.master_b, spec.errors)
+    b = acceptance_bands(
+        fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
+    )
     assert b.df_a_upper_um[0] - b.df_a_lower_um[0] == pytest.approx(338.85, abs=0.01)
     assert b.df_b_upper_um[1] - b.df_b_lower_um[1] == pytest.approx(335.17, abs=0.01)
 
@@ -168,15 +239,62 @@ def test_item5_fixture_estimates_agree_with_cmm_on_simulated_parts(capsys, tmp_p
     # exact twin by about 1.6 µm rms; the paper reports 2.75 µm for Δf_est − Δf_mea).
     a, b, rec = tmp_path / "a.csv", tmp_path / "b.csv", tmp_path / "rec.csv"
     for cam, path, rms, seed in (("A", a, "120", "1"), ("B", b, "90", "2")):
-        assert main(["simulate", "cmm", "-e", "cw11-experiment", "-o", str(path), "--cam", cam,
-                     "--error-rms-um", rms, "--seed", seed, "--noise-um", "1"]) == 0
-    assert main(["simulate", "record", "-e", "cw11-experiment", "-o", str(rec),
-                 "--truth-a", str(tmp_path / "a.truth.json"),
-                 "--truth-b", str(tmp_path / "b.truth.json"), "--noise-um", "2"]) == 0
+        assert (
+            main(
+                [
+                    "simulate",
+                    "cmm",
+                    "-e",
+                    "cw11-experiment",
+                    "-o",
+                    str(path),
+                    "--cam",
+                    cam,
+                    "--error-rms-um",
+                    rms,
+                    "--seed",
+                    seed,
+                    "--noise-um",
+                    "1",
+                ]
+            )
+            == 0
+        )
+    assert (
+        main(
+            [
+                "simulate",
+                "record",
+                "-e",
+                "cw11-experiment",
+                "-o",
+                str(rec),
+                "--truth-a",
+                str(tmp_path / "a.truth.json"),
+                "--truth-b",
+                str(tmp_path / "b.truth.json"),
+                "--noise-um",
+                "2",
+            ]
+        )
+        == 0
+    )
     capsys.readouterr()
-    code, out, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--record", str(rec),
-                          "--cmm-a", str(a), "--cmm-b", str(b), "--cmm-datum", "centre:0,0,0",
-                          "--json")
+    code, out, err = _run(
+        capsys,
+        "conjugate",
+        "-e",
+        "cw11-experiment",
+        "--record",
+        str(rec),
+        "--cmm-a",
+        str(a),
+        "--cmm-b",
+        str(b),
+        "--cmm-datum",
+        "centre:0,0,0",
+        "--json",
+    )
     assert code in (0, 1), err
     s = json.loads(out)["cmm_comparison"]
     assert s["rms_dr_A_cmm_um"] == pytest.approx(120.0, rel=0.01)

@@ -103,7 +103,7 @@ class Scan:
         return self._table.line_of(int(self.rows[index]))
 
     def profile_points(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-        """The profile points (bore excluded) and their indices into the scan. [mm]"""
+        """Return the profile points (bore excluded) and their indices into the scan. [mm]"""
         idx = np.flatnonzero(~self.bore)
         return self.x_mm[idx], self.y_mm[idx], idx
 

@@ -88,7 +88,7 @@ class CmmFixtureComparison:
     dr_b_est_um: FloatArray | None
 
     def summary(self) -> dict[str, float]:
-        """The rms figures of [CW11] Table 4 (µm; relative deviations as fractions)."""
+        """Return the rms figures of [CW11] Table 4 (µm; relative deviations as fractions)."""
         out = {
             "rms_dr_A_cmm_um": rms(self.dr_a_cmm_um),
             "rms_dr_B_cmm_um": rms(self.dr_b_cmm_um),

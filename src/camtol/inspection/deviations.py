@@ -101,7 +101,7 @@ def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
 
 
 def profile_tolerance_um(design: CamDesign, cam: CamLabel = "A") -> tuple[float, float] | None:
-    """The profile tolerance [lower, upper] of a cam from its design, or None. [µm]
+    """Return the profile tolerance [lower, upper] of a cam from its design, or None. [µm]
 
     Parameters
     ----------

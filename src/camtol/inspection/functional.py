@@ -83,8 +83,11 @@ def fourier_fit(t_rad: ArrayLike, values_mm: ArrayLike, harmonics: int) -> Fouri
         order = np.argsort(t)
         grid = np.linspace(0.0, 2 * math.pi, 8 * harmonics + 8, endpoint=False)
         ts, vs = t[order], v[order]
-        v = np.interp(grid, np.concatenate([ts - 2 * math.pi, ts, ts + 2 * math.pi]),
-                      np.concatenate([vs, vs, vs]))
+        v = np.interp(
+            grid,
+            np.concatenate([ts - 2 * math.pi, ts, ts + 2 * math.pi]),
+            np.concatenate([vs, vs, vs]),
+        )
         t = grid
     k = np.arange(1, harmonics + 1)
     arg = t[:, None] * k[None, :]
@@ -100,10 +103,11 @@ def fourier_fit(t_rad: ArrayLike, values_mm: ArrayLike, harmonics: int) -> Fouri
 
 
 class SampledFourier:
-    """A Fourier series Δ(t) evaluated fast: exact values and derivatives on a fine grid
-    (inverse FFT, at least 128 nodes per highest harmonic), quintic Hermite between nodes
+    """A Fourier series Δ(t) evaluated fast (a :class:`~camtol.contact.ProfileError`).
+
+    Exact values and derivatives on a fine grid (inverse FFT, at least 128 nodes per
+    highest harmonic), quintic Hermite between nodes
     (errors O(h⁶) in Δ, O(h⁴) in Δ''; about 1e-13 mm and 1e-9 relative for 100 harmonics).
-    A :class:`~camtol.contact.ProfileError`.
 
     Parameters
     ----------
@@ -127,8 +131,9 @@ class SampledFourier:
         ik = 1j * np.arange(spec.size)
         v, d1, d2 = (np.fft.irfft(spec * ik**p, m) for p in (0, 1, 2))
         self.h = 2 * math.pi / m
-        self.coef = _quintic(v, d1, d2, np.roll(v, -1), np.roll(d1, -1), np.roll(d2, -1),
-                             np.full(m, self.h))
+        self.coef = _quintic(
+            v, d1, d2, np.roll(v, -1), np.roll(d1, -1), np.roll(d2, -1), np.full(m, self.h)
+        )
         self.series = series
 
     def __call__(self, theta_rad: FloatArray) -> Jet:
@@ -172,12 +177,12 @@ class FunctionalDeviation:
 
     @property
     def max_abs_measured(self) -> float:
-        """max |ΔS_measured|. [unit]"""
+        """Max |ΔS_measured|. [unit]"""
         return float(np.max(np.abs(self.ds_measured)))
 
     @property
     def max_abs_linear(self) -> float:
-        """max |ΔS_linear|. [unit]"""
+        """Max |ΔS_linear|. [unit]"""
         return float(np.max(np.abs(self.ds_linear)))
 
 

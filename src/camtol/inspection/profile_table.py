@@ -172,7 +172,7 @@ class ProfileTable:
         if cache is None:
             cache = self._bucket()
             object.__setattr__(self, "_bucket_cache", cache)
-        return cache  # type: ignore[no-any-return]
+        return cache
 
     def _newton(
         self, t0: FloatArray, qx: FloatArray, qy: FloatArray, radial: bool

@@ -19,8 +19,9 @@ with their exact Jacobian (the closest point moves along the profile, so ∂Δn/
 Gauss-Newton with the loss's weights (iteratively reweighted least squares: a few
 closest-point solves), or by :func:`scipy.optimize.least_squares` itself (``solver="scipy"``,
 the slower reference; both reach the same minimum). The rotation starts from a coarse
-search (1°, then 0.1°) of the median radial misfit. Standard uncertainties follow from the Jacobian at the solution,
-cov = s² (JᵀJ)⁻¹ with s² the residual variance of the points kept.
+search (1°, then 0.1°) of the median radial misfit. Standard uncertainties follow from
+the Jacobian at the solution, cov = s² (JᵀJ)⁻¹ with s² the residual variance of the
+points kept.
 
 Outliers are points far from their neighbours' trend (a running median of Δn along the
 profile): more than ``k`` robust standard deviations (1.4826 × MAD) and more than a floor.
@@ -333,7 +334,9 @@ def register(
             ddx, ddy = float(p[i]), float(p[i + 1])
         return phi, ddx, ddy
 
-    def jac_rows(phi: float, xc: FloatArray, yc: FloatArray, nx: FloatArray, ny: FloatArray) -> FloatArray:
+    def jac_rows(
+        phi: float, xc: FloatArray, yc: FloatArray, nx: FloatArray, ny: FloatArray
+    ) -> FloatArray:
         cols = []
         if fit_rotation:  # ∂x_cam/∂φ = (y_cam, −x_cam)
             cols.append(nx * yc - ny * xc)
@@ -366,7 +369,7 @@ def register(
             for _ in range(100):
                 w = _weights(dn + j @ step, datum.loss, f_scale)
                 jw = j * w[:, None]
-                new = np.linalg.lstsq(jw.T @ j, -(jw.T @ dn), rcond=None)[0]
+                new = np.asarray(np.linalg.lstsq(jw.T @ j, -(jw.T @ dn), rcond=None)[0], float)
                 done = np.max(np.abs(new - step)) < 0.1 * tol
                 step = new
                 if done:
@@ -446,7 +449,7 @@ def _solve_scipy(
     jac_rows: Callable[..., FloatArray],
     datum: Datum,
 ) -> FloatArray:
-    """The robust fit by scipy.optimize.least_squares (exact Jacobian)."""
+    """Fit by scipy.optimize.least_squares (exact Jacobian)."""
     from scipy.optimize import least_squares
 
     state: dict[str, FloatArray] = {}
@@ -481,7 +484,7 @@ def _solve_scipy(
 def _circle_uncertainty(
     x: FloatArray, y: FloatArray, cx: float, cy: float, radius: float
 ) -> tuple[float, float]:
-    """Standard uncertainties of a fitted circle's centre from its geometric Jacobian. [mm]"""
+    """Return the standard uncertainties of a fitted circle's centre (its Jacobian). [mm]"""
     dx, dy = x - cx, y - cy
     r = np.hypot(dx, dy)
     res = r - radius

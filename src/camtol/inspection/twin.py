@@ -50,7 +50,7 @@ ErrorKind = Literal["radial", "normal"]
 def random_profile_error(
     rms_um: float, *, harmonics: tuple[int, int] = (2, 20), seed: int = 0, mean_um: float = 0.0
 ) -> FourierError:
-    """A random Fourier-series profile error with amplitudes ∝ 1/k, scaled to an rms.
+    """Draw a random Fourier-series profile error with amplitudes ∝ 1/k, scaled to an rms.
 
     Parameters
     ----------
@@ -132,7 +132,7 @@ class ScanTruth:
     profile_error: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
-        """The truth as a JSON-ready dict (keys as the attributes)."""
+        """Return the truth as a JSON-ready dict (keys as the attributes)."""
         return {
             "design": self.design,
             "cam": self.cam,
@@ -249,8 +249,12 @@ def simulate_scan(
     nx, ny = py.d1 / speed, -px.d1 / speed  # outward: the tangent turned clockwise
     rng = np.random.default_rng(seed)
     off = stylus_radius_mm + rng.normal(0.0, noise_um * 1e-3, points)
-    bad = np.sort(rng.choice(points, size=outliers, replace=False)) if outliers else np.zeros(0, int)
-    off[bad] += rng.choice([-1.0, 1.0], bad.size) * rng.uniform(0.5, 1.0, bad.size) * outlier_um * 1e-3
+    bad = (
+        np.sort(rng.choice(points, size=outliers, replace=False)) if outliers else np.zeros(0, int)
+    )
+    off[bad] += (
+        rng.choice([-1.0, 1.0], bad.size) * rng.uniform(0.5, 1.0, bad.size) * outlier_um * 1e-3
+    )
     x, y = px.v + off * nx, py.v + off * ny
     phi = math.radians(rotation_deg)
     dx = eccentricity_um * 1e-3 * math.cos(math.radians(eccentricity_deg))
@@ -280,7 +284,7 @@ def simulate_scan(
 
 
 def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
-    """The scan as a CMM point file (``x_mm,y_mm``, comments with the stylus radius).
+    """Return the scan as a CMM point file (``x_mm,y_mm``, comments with the stylus radius).
 
     Parameters
     ----------
@@ -291,7 +295,8 @@ def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
     """
     tr = scan.truth
     head = [
-        f"# camtol simulated CMM scan of cam {tr.cam} of {tr.design!r}" + (f": {command}" if command else ""),
+        f"# camtol simulated CMM scan of cam {tr.cam} of {tr.design!r}"
+        + (f": {command}" if command else ""),
         f"# {tr.points} points; probe noise {tr.noise_um:g} um; seed {tr.seed}",
     ]
     if tr.stylus_radius_mm > 0:
@@ -299,7 +304,9 @@ def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
             f"# stylus-ball centres: inspect with --stylus-radius-mm {tr.stylus_radius_mm:g}"
         )
     head.append("x_mm,y_mm")
-    body = "\n".join(f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True))
+    body = "\n".join(
+        f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
+    )
     return "\n".join(head) + "\n" + body + "\n"
 
 
@@ -336,12 +343,20 @@ def fixture_delta_f(
 
     pair = design.mechanism
     if not isinstance(pair, ConjugatePair):
-        raise DesignError(
-            f"follower.type={pair.kind!r}: the fixture needs a conjugate design"
-        )
-    kw = "radial_error" if error_kind == "radial" else "normal_error"
-    sa = AnalyticShape(pair.cam_a, design.program, **{kw: error_a})
-    sb = AnalyticShape(pair.cam_b, design.program, **{kw: error_b})
+        raise DesignError(f"follower.type={pair.kind!r}: the fixture needs a conjugate design")
+    radial = error_kind == "radial"
+    sa = AnalyticShape(
+        pair.cam_a,
+        design.program,
+        radial_error=error_a if radial else None,
+        normal_error=None if radial else error_a,
+    )
+    sb = AnalyticShape(
+        pair.cam_b,
+        design.program,
+        radial_error=error_b if radial else None,
+        normal_error=None if radial else error_b,
+    )
     n = int(round(360.0 / step_deg))
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     res = simulate_fixture(
@@ -351,8 +366,10 @@ def fixture_delta_f(
     return ErrorFunction.table(np.degrees(theta), df, name="simulated fixture Δf")
 
 
-def error_from_truth(truth: dict[str, Any], *, source: str = "truth") -> tuple[FourierError, ErrorKind]:
-    """The profile error of a ``scan.truth.json`` (as written by :func:`simulate_scan`).
+def error_from_truth(
+    truth: dict[str, Any], *, source: str = "truth"
+) -> tuple[FourierError, ErrorKind]:
+    """Return the profile error of a ``scan.truth.json`` (as written by :func:`simulate_scan`).
 
     Parameters
     ----------

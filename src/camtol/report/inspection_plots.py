@@ -24,7 +24,7 @@ __all__ = ["inspection_figure"]
 
 
 def _magnification(insp: CmmInspection, r_max_mm: float) -> float:
-    """A round magnification that draws the largest deviation at about 8% of the cam."""
+    """Choose a round magnification that draws the largest deviation at about 8% of the cam."""
     span_um = max(abs(insp.tolerance_um[0]), abs(insp.tolerance_um[1]), 1e-3)
     span_um = max(span_um, float(np.max(np.abs(insp.dn_um[insp.kept]))))
     raw = 0.08 * r_max_mm / (span_um * 1e-3)
@@ -38,7 +38,7 @@ def inspection_figure(
     *,
     magnification: float | None = None,
 ) -> Figure:
-    """The inspection figure: magnified deviation, Δn against θ, functional ΔS.
+    """Draw the inspection figure: magnified deviation, Δn against θ, functional ΔS.
 
     Parameters
     ----------

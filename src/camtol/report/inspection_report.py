@@ -35,7 +35,18 @@ __all__ = [
 
 
 def motion_unit(functional: FunctionalDeviation) -> tuple[str, float]:
-    """File unit of ΔS and the factor from the library's unit: (``um``, 1e3) or (``deg``, …)."""
+    """Return the file unit of ΔS and the factor from the library's unit.
+
+    Parameters
+    ----------
+    functional : FunctionalDeviation
+        The follower-motion error (S in mm or rad).
+
+    Returns
+    -------
+    (str, float)
+        (``um``, 1e3) for a translating follower, (``deg``, 180/π) for an oscillating one.
+    """
     return ("um", 1e3) if functional.unit == "mm" else ("deg", 180.0 / math.pi)
 
 
@@ -46,7 +57,7 @@ def inspection_json(
     design: str,
     stylus_radius_mm: float,
 ) -> dict[str, Any]:
-    """The inspection as a JSON-ready dict (keys as documented in docs/cmm-inspection.md).
+    """Return the inspection as a JSON-ready dict (keys as documented in docs/cmm-inspection.md).
 
     Parameters
     ----------
@@ -86,7 +97,9 @@ def inspection_json(
             "count": int(reg.outliers.size),
             "indices": [int(insp.index[i]) for i in reg.outliers],
         },
-        "failing_intervals_deg": [[round(a, 4), round(b, 4)] for a, b in insp.failing_intervals_deg],
+        "failing_intervals_deg": [
+            [round(a, 4), round(b, 4)] for a, b in insp.failing_intervals_deg
+        ],
         "warnings": list(reg.warnings),
     }
     if functional is not None:
@@ -151,7 +164,7 @@ def write_motion_csv(functional: FunctionalDeviation, path: str) -> None:
 
 
 def inspection_text(data: dict[str, Any]) -> list[str]:
-    """The summary lines printed by ``camtol inspect`` (from :func:`inspection_json`).
+    """Return the summary lines printed by ``camtol inspect`` (from :func:`inspection_json`).
 
     Parameters
     ----------
@@ -164,13 +177,18 @@ def inspection_text(data: dict[str, Any]) -> list[str]:
         f"{data['design']}: cam {data['cam']}, {data['points']} points from {data['scan']}",
         f"registration ({reg['mode']}): rotation {reg['rotation_deg']:.5f}° ± "
         f"{reg['u_rotation_deg']:.2g}°, centre ({reg['dx_mm'] * 1e3:.2f}, "
-        f"{reg['dy_mm'] * 1e3:.2f}) µm ± ({reg['u_dx_mm'] * 1e3:.2g}, {reg['u_dy_mm'] * 1e3:.2g}) µm",
+        f"{reg['dy_mm'] * 1e3:.2f}) µm ± ({reg['u_dx_mm'] * 1e3:.2g},"
+        f" {reg['u_dy_mm'] * 1e3:.2g}) µm",
         f"normal deviation Δn: {data['min_dn_um']:.2f} .. {data['max_dn_um']:.2f} µm;"
         f" form {data['form_um']:.2f} µm; minimum zone {data['min_zone_um']:.2f} µm",
         f"outliers: {data['outliers']['count']}"
-        + (f" (rows {', '.join(map(str, data['outliers']['indices'][:10]))}"
-           + (", ..." if data["outliers"]["count"] > 10 else "") + ")"
-           if data["outliers"]["count"] else ""),
+        + (
+            f" (rows {', '.join(map(str, data['outliers']['indices'][:10]))}"
+            + (", ..." if data["outliers"]["count"] > 10 else "")
+            + ")"
+            if data["outliers"]["count"]
+            else ""
+        ),
     ]
     if "motion" in data:
         m = data["motion"]
@@ -188,7 +206,7 @@ def inspection_text(data: dict[str, Any]) -> list[str]:
 
 
 def inspection_report_html(data: dict[str, Any], figure_svg: str | None) -> str:
-    """A self-contained HTML page of the inspection (summary, registration, figure).
+    """Return a self-contained HTML page of the inspection (summary, registration, figure).
 
     Parameters
     ----------
