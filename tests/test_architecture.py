@@ -23,6 +23,7 @@ CORE = [
     "design.py",
     "sources.py",
     "kinematics.py",
+    "engine.py",
     "errors.py",
     "extremes.py",
     "iso286.py",
@@ -31,6 +32,8 @@ CORE = [
     "tables.py",
     "grid.py",
     "contact",
+    "manufacturing",
+    "table_noise.py",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 
