@@ -346,6 +346,7 @@ def register(
         return np.stack(cols, axis=1) if cols else np.zeros((xc.size, 0))
 
     def solve(params: FloatArray, idx: NDArray[np.intp], tol: float = 1e-10) -> FloatArray:
+        """Robust fit on ``idx`` (an even subsample of at most FIT_POINTS of them)."""
         if not names:
             return params
         idx = idx[:: max(1, idx.size // FIT_POINTS)]
@@ -379,8 +380,10 @@ def register(
                 break
         return params
 
-    # A first fit to 1e-7 (mm, rad) finds the outliers; the fit without them converges.
-    params = solve(params0, np.arange(x_mm.size), 1e-7)
+    # Fit, find the outliers on every point, and fit again without them when any of them
+    # was among the points fitted (an even subsample of a large scan).
+    fitted_idx = np.arange(0, x_mm.size, max(1, x_mm.size // FIT_POINTS))
+    params = solve(params0, np.arange(x_mm.size))
     phi, ddx, ddy = unpack(params)
     xc, yc = _to_cam(phi, ddx, ddy, x_mm, y_mm)
     t, dn, nx, ny = table.closest(xc, yc)
@@ -388,7 +391,7 @@ def register(
     is_out = np.zeros(x_mm.size, dtype=bool)
     is_out[outliers] = True
     keep = np.flatnonzero(~is_out)
-    if names:  # fit again without them, to full precision
+    if names and np.any(is_out[fitted_idx]):
         params = solve(params, keep)
         phi, ddx, ddy = unpack(params)
         xc, yc = _to_cam(phi, ddx, ddy, x_mm, y_mm)
