@@ -215,3 +215,42 @@ def test_failing_cam_reports_its_angles(cw11) -> None:  # type: ignore[no-untype
     assert not res.passed
     assert len(res.failing_intervals_deg) == 2  # +60 near 90° (param), −60 near 270°
     assert res.max_dn_um == pytest.approx(60.0, abs=0.01)
+
+
+def test_read_scan_units_cam_column_and_mapping(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    # Coordinates in µm, both cams in one file (column cam), a mapped header name: the
+    # right cam's points come back in mm; without --cam a two-cam file is refused.
+    from camtol.exceptions import InputFileError
+    from camtol.inspection.cmm import read_scan
+
+    ang = np.linspace(0, 2 * math.pi, 40, endpoint=False)
+    rows = [f"{60000 * math.cos(a):.3f};{60000 * math.sin(a):.3f};1" for a in ang]
+    rows += [f"{70000 * math.cos(a):.3f};{70000 * math.sin(a):.3f};2" for a in ang]
+    p = tmp_path / "both.txt"
+    p.write_text("\ufeff# two cams\r\nXX;y_um;cam\r\n" + "\r\n".join(rows) + "\r\n")
+    scan = read_scan(p, cam="B", aliases={"XX": "x_um"})
+    assert scan.size == 40
+    assert np.allclose(np.hypot(scan.x_mm, scan.y_mm), 70.0, atol=1e-6)
+    with pytest.raises(InputFileError, match="both cams"):
+        read_scan(p, aliases={"XX": "x_um"})
+
+
+@pytest.mark.parametrize("loss", ["soft_l1", "huber", "linear"])
+def test_rotation_only_and_datum_point(cw11, loss: str) -> None:  # type: ignore[no-untyped-def]
+    # fit-rotation (centre at the CMM origin) recovers the rotation; a datum point at a
+    # stated nominal polar angle fixes it without a fit.
+    sim = simulate_scan(cw11, points=1800, noise_um=0.5, seed=8, rotation_deg=-33.0)
+    res = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=Datum("fit-rotation", loss=loss))  # type: ignore[arg-type]
+    assert res.registration.rotation_deg == pytest.approx(-33.0, abs=1e-3)
+    assert res.registration.fitted == ("rotation",) and not res.registration.warnings
+    c, s = math.cos(math.radians(-33.0)), math.sin(math.radians(-33.0))
+    pt = (100.0 * math.cos(math.radians(45.0)), 100.0 * math.sin(math.radians(45.0)))
+    datum = Datum(
+        "centre",
+        centre_mm=(0.0, 0.0),
+        point_mm=(c * pt[0] - s * pt[1], s * pt[0] + c * pt[1]),
+        point_angle_deg=45.0,
+    )
+    res2 = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum)
+    assert res2.registration.rotation_deg == pytest.approx(-33.0, abs=1e-9)
+    assert res2.registration.fitted == ()

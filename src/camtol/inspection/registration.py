@@ -163,7 +163,7 @@ class Registration:
     mode : str
         The datum mode used.
     rotation_deg, dx_mm, dy_mm : float
-        φ [deg] and d [mm].
+        φ in (−180, 180] [deg] and d [mm].
     u_rotation_deg, u_dx_mm, u_dy_mm : float
         Standard uncertainties (0 for a stated value). [deg, mm]
     fitted : tuple of str
@@ -414,7 +414,7 @@ def register(
     warnings = (BEST_FIT_WARNING,) if fit_translation else ()
     return Registration(
         mode=datum.mode,
-        rotation_deg=math.degrees(phi),
+        rotation_deg=math.degrees(math.remainder(phi, 2 * math.pi)),
         dx_mm=ddx,
         dy_mm=ddy,
         u_rotation_deg=math.degrees(u["rotation"]),
