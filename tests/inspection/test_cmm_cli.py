@@ -304,3 +304,20 @@ def test_item5_fixture_estimates_agree_with_cmm_on_simulated_parts(capsys, tmp_p
     # the exact twin of the fixture from the two CMM profiles reproduces the record
     assert s["rms_df_twin_minus_mea_um"] < 1.0
     assert s["relative_deviation_df_est"] < 0.01
+
+
+def test_scan_of_the_other_cam_of_a_pair_is_named(capsys, scan_b: Path) -> None:  # type: ignore[no-untyped-def]
+    code, _, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "A",
+        "--stylus-radius-mm",
+        "1",
+    )
+    assert code == 2
+    assert "it matches cam B: use --cam B" in err and len(err.strip().splitlines()) == 1

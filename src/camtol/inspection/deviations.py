@@ -319,10 +319,11 @@ def inspect_scan(
         cx, cy, _ = fit_circle(bx, by)
         centre = (cx, cy)
     check_coverage(scan.source, px - centre[0], py - centre[1])
-    wrong = (
-        f"{scan.source}: the points do not match the nominal profile of cam {prof.label} of"
-        f" {design.name!r}"
-    )
+    def wrong() -> str:
+        return (
+            f"{scan.source}: the points do not match the nominal profile of cam {prof.label}"
+            f" of {design.name!r}{_other_cam_hint(design, scan, prof.label, datum, tol)}"
+        )
     try:
         reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
         pts = reg.points
@@ -333,7 +334,7 @@ def inspect_scan(
             xc, yc, t, dn, nx, ny = pts.x_mm, pts.y_mm, pts.param_rad, pts.dn_mm, pts.nx, pts.ny
     except GeometryError:
         raise InputFileError(
-            f"{wrong} (no closest profile point found for some): is this a scan of that cam?"
+            f"{wrong()} (no closest profile point found for some): is this a scan of that cam?"
         ) from None
     outlier = np.zeros(px.size, dtype=bool)
     outlier[reg.outliers] = True
@@ -342,7 +343,7 @@ def inspect_scan(
     p90 = float(np.quantile(np.abs(dn[kept]), 0.9))
     if p90 > limit:
         raise InputFileError(
-            f"{wrong}: after registration 10% of them lie more than {p90:.3g} mm from it,"
+            f"{wrong()}: after registration 10% of them lie more than {p90:.3g} mm from it,"
             f" beyond any plausible tolerance ({limit:g} mm): is this a scan of that cam?"
         )
     dr = prof.table.radial(xc, yc, t)
@@ -367,6 +368,20 @@ def inspect_scan(
         min_zone_um=1e3 * minimum_zone(dn[kept], jac[kept]),
         failing_intervals_deg=_intervals(theta_deg, fail),
     )
+
+
+def _other_cam_hint(
+    design: CamDesign, scan: Scan, label: str, datum: Datum, tol: tuple[float, float]
+) -> str:
+    """For a conjugate pair: ' (it matches cam X)' when the scan fits the other cam."""
+    if len(design.cams()) < 2:
+        return ""
+    other = "B" if label == "A" else "A"
+    try:
+        inspect_scan(design, scan, cam=other, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
+    except (InputFileError, GeometryError):
+        return ""
+    return f" (it matches cam {other}: use --cam {other})"
 
 
 def _free_jacobian(

@@ -109,6 +109,10 @@ def inspection_json(
             "harmonics": functional.harmonics,
             "max_abs_dS_measured": functional.max_abs_measured * k,
             "max_abs_dS_linear": functional.max_abs_linear * k,
+            "max_abs_dV_measured": float(np.max(np.abs(functional.dv_measured))) * k,
+            "max_abs_dA_measured": float(np.max(np.abs(functional.da_measured))) * k,
+            "dV_unit": f"{unit}/rad",
+            "dA_unit": f"{unit}/rad2",
         }
     return out
 
