@@ -254,3 +254,37 @@ def test_rotation_only_and_datum_point(cw11, loss: str) -> None:  # type: ignore
     res2 = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum)
     assert res2.registration.rotation_deg == pytest.approx(-33.0, abs=1e-9)
     assert res2.registration.fitted == ()
+
+
+@pytest.mark.parametrize(("name", "cam"), [("cw11-experiment", "B"), ("roller-translating", "A")])
+def test_functional_from_a_scan_matches_the_closed_form_to_second_order(
+    name: str, cam: str
+) -> None:
+    # Issue 12: scans (no noise) of cams with a known smooth radial error Δr; the exact
+    # ΔS measured from the scan against the closed-form linear prediction (∂S/∂r)·Δr of
+    # THEORY §3: their difference is of second order (doubling Δr multiplies it by 4).
+    from camtol import jet
+
+    d = load_example(name)
+    prof = cam_profile(d, cam)  # type: ignore[arg-type]
+    base = FourierError(0.005, cos_mm=(0.0, 0.012), sin_mm=(0.0, 0.0, 0.006))
+    diffs = []
+    for scale in (1.0, 2.0):
+        err = base.scaled(scale)
+        sim = simulate_scan(d, cam=cam, points=3600, noise_um=0.0, profile_error=err)  # type: ignore[arg-type]
+        datum = Datum("centre", centre_mm=(0.0, 0.0), angle_deg=0.0)
+        res = inspect_scan(
+            d,
+            _scan(sim.x_mm, sim.y_mm),
+            cam=cam,
+            datum=datum,  # type: ignore[arg-type]
+            tolerance_um=(-100.0, 100.0),
+            profile=prof,
+        )
+        f = functional_deviation(prof, res, step_deg=1.0, harmonics=60)
+        m = d.program.evaluate(f.theta_rad)
+        s_r = jet.value(prof.mechanism.error_sensitivities(f.theta_rad, m.lift, m.velocity)["r"])
+        closed = np.asarray(s_r) * err(f.theta_rad).v
+        diffs.append(float(np.max(np.abs(f.ds_measured - closed))))
+        assert diffs[-1] < 0.02 * f.max_abs_measured
+    assert diffs[1] / diffs[0] == pytest.approx(4.0, rel=0.15)
