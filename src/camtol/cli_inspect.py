@@ -27,8 +27,8 @@ from camtol.cli import (
 
 if TYPE_CHECKING:
     from camtol.design import CamDesign
+    from camtol.inspection import FixtureSpec
     from camtol.inspection.cmm_fixture import CmmFixtureComparison
-    from camtol.inspection.fixture import FixtureSpec
     from camtol.inspection.registration import Datum
 
 __all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
@@ -342,10 +342,10 @@ def cmm_pair_masters(
 
     import numpy as np
 
+    from camtol.inspection import ErrorFunction
     from camtol.inspection.cmm import read_scan
     from camtol.inspection.cmm_fixture import compare_cmm_fixture
     from camtol.inspection.deviations import inspect_scan
-    from camtol.inspection.fixture import ErrorFunction
     from camtol.inspection.functional import DEFAULT_HARMONICS, fourier_fit
 
     datum = parse_datum(datum_text, None, None, "soft_l1")

@@ -236,8 +236,8 @@ def simulate_record_cmd(
     def body() -> int:
         check_output_path(output, "--output", [".csv"])
         from camtol.exceptions import InputFileError
-        from camtol.inspection import simulate_record, write_indicator_csv
-        from camtol.inspection.fixture import FixtureErrors, fixture_spec_from_mapping
+        from camtol.inspection import FixtureErrors, simulate_record, write_indicator_csv
+        from camtol.inspection.fixture import fixture_spec_from_mapping
         from camtol.inspection.twin import error_from_truth, fixture_delta_f
 
         d = load_input(design, example)

@@ -35,7 +35,7 @@ from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixtur
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
-from camtol.inspection.fixture import (
+from camtol.inspection import (
     ErrorFunction,
     FixtureErrors,
     conjugate_factors,

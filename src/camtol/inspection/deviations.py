@@ -319,11 +319,13 @@ def inspect_scan(
         cx, cy, _ = fit_circle(bx, by)
         centre = (cx, cy)
     check_coverage(scan.source, px - centre[0], py - centre[1])
+
     def wrong() -> str:
         return (
             f"{scan.source}: the points do not match the nominal profile of cam {prof.label}"
             f" of {design.name!r}{_other_cam_hint(design, scan, prof.label, datum, tol)}"
         )
+
     try:
         reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
         pts = reg.points
