@@ -288,3 +288,24 @@ def test_functional_from_a_scan_matches_the_closed_form_to_second_order(
         diffs.append(float(np.max(np.abs(f.ds_measured - closed))))
         assert diffs[-1] < 0.02 * f.max_abs_measured
     assert diffs[1] / diffs[0] == pytest.approx(4.0, rel=0.15)
+
+
+def test_best_fit_with_the_cmm_origin_far_from_the_cam(cw11) -> None:  # type: ignore[no-untyped-def]
+    # The CMM frame's origin 150 mm away from the cam axis, the cam turned by 130°: the
+    # best fit starts from the area centroids and registers within 1 µm and 0.001°.
+    sim = simulate_scan(
+        cw11,
+        cam="B",
+        points=3600,
+        noise_um=1.0,
+        seed=6,
+        stylus_radius_mm=1.0,
+        eccentricity_um=150_000.0,
+        eccentricity_deg=200.0,
+        rotation_deg=130.0,
+    )
+    scan = compensate_stylus(_scan(sim.x_mm, sim.y_mm), 1.0)
+    reg = inspect_scan(cw11, scan, cam="B").registration
+    assert reg.rotation_deg == pytest.approx(130.0, abs=1e-3)
+    assert reg.dx_mm == pytest.approx(sim.truth.dx_mm, abs=1e-3)
+    assert reg.dy_mm == pytest.approx(sim.truth.dy_mm, abs=1e-3)

@@ -273,7 +273,7 @@ def local_normals(
 ) -> tuple[FloatArray, FloatArray]:
     """Outward unit normals of a closed scan, from the circle through each point's neighbours.
 
-    The points are ordered by polar angle about the origin; the normal at p_i is that of
+    The points are ordered by polar angle about their centroid; the normal at p_i is that of
     the circle through p_{i−k}, p_i, p_{i+k} (exact on a circle for any spacing), oriented
     outwards (the counterclockwise chord p_{i+k} − p_{i−k} turned clockwise), and the
     turned chord itself where the three are collinear.
@@ -281,7 +281,7 @@ def local_normals(
     Parameters
     ----------
     x_mm, y_mm : ndarray
-        Points about the cam centre. [mm]
+        Points round the cam, any frame. [mm]
     span : int, optional
         Neighbour offset k (default: the points in about 1° of polar angle, at least 1).
 
@@ -292,7 +292,8 @@ def local_normals(
     """
     n = x_mm.size
     k = max(1, round(n / 360)) if span is None else span
-    order = np.argsort(np.arctan2(y_mm, x_mm), kind="stable")
+    # Ordered about the points' centroid: inside the cam whatever the CMM frame's origin.
+    order = np.argsort(np.arctan2(y_mm - np.mean(y_mm), x_mm - np.mean(x_mm)), kind="stable")
     px, py = x_mm[order], y_mm[order]
     ax, ay = np.roll(px, k) - px, np.roll(py, k) - py
     bx, by = np.roll(px, -k) - px, np.roll(py, -k) - py

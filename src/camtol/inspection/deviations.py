@@ -311,7 +311,11 @@ def inspect_scan(
     px, py, index = scan.profile_points()
     bx, by = scan.x_mm[scan.bore], scan.y_mm[scan.bore]
     centre = (0.0, 0.0)
-    if datum.mode == "centre" and datum.centre_mm is not None:
+    if datum.mode == "fit":
+        from camtol.inspection.registration import area_centroid
+
+        centre = area_centroid(px, py)
+    elif datum.mode == "centre" and datum.centre_mm is not None:
         centre = datum.centre_mm
     elif datum.mode == "bore" and bx.size >= 3:
         from camtol.inspection.cmm import fit_circle

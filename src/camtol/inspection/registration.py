@@ -19,7 +19,8 @@ with their exact Jacobian (the closest point moves along the profile, so ∂Δn/
 Gauss-Newton with the loss's weights (iteratively reweighted least squares: a few
 closest-point solves), or by :func:`scipy.optimize.least_squares` itself (``solver="scipy"``,
 the slower reference; both reach the same minimum). The rotation starts from a coarse
-search (1°, then 0.1°) of the median radial misfit. Standard uncertainties follow from
+search (1°, then 0.1°) of the median radial misfit, the centre of a best fit from the
+scan's area centroid (so the CMM frame's origin may be anywhere). Standard uncertainties follow from
 the Jacobian at the solution, cov = s² (JᵀJ)⁻¹ with s² the residual variance of the
 points kept.
 
@@ -208,26 +209,78 @@ def _to_cam(
     return c * u + s * v, -s * u + c * v
 
 
+def area_centroid(x_mm: FloatArray, y_mm: FloatArray) -> tuple[float, float]:
+    """Return the centroid of the area a closed scan encloses (ordered about its mean). [mm]
+
+    Unlike the mean of the points, it does not depend on how densely each part of the
+    profile was probed.
+
+    Parameters
+    ----------
+    x_mm, y_mm : ndarray
+        Points round the cam. [mm]
+    """
+    mx, my = float(np.mean(x_mm)), float(np.mean(y_mm))
+    order = np.argsort(np.arctan2(y_mm - my, x_mm - mx), kind="stable")
+    u, v = x_mm[order] - mx, y_mm[order] - my
+    un, vn = np.roll(u, -1), np.roll(v, -1)
+    cross = u * vn - un * v
+    area = 0.5 * float(np.sum(cross))
+    if abs(area) < 1e-12:
+        return mx, my
+    return (
+        mx + float(np.sum((u + un) * cross)) / (6.0 * area),
+        my + float(np.sum((v + vn) * cross)) / (6.0 * area),
+    )
+
+
 def _coarse_rotation(
-    table: ProfileTable, x: FloatArray, y: FloatArray, dx: float, dy: float
-) -> float:
-    """Rotation minimising the median radial misfit, searched every 1° then 0.1°. [rad]"""
-    step = max(1, x.size // 120)
-    u, v = x[::step] - dx, y[::step] - dy
-    r, pol = np.hypot(u, v), np.arctan2(v, u)
+    table: ProfileTable,
+    x: FloatArray,
+    y: FloatArray,
+    dx: float,
+    dy: float,
+    free_centre: bool = False,
+) -> tuple[float, float, float]:
+    """Rotation (and centre) minimising the median radial misfit, every 1° then 0.1°.
+
+    With ``free_centre`` the centre for each trial rotation φ puts the scan's area
+    centroid on the nominal profile's: d(φ) = C_scan − R(φ) C_nominal.
+
+    Returns
+    -------
+    (float, float, float)
+        φ [rad] and the centre (dx, dy). [mm]
+    """
     nodes_x, nodes_y, *_ = table.evaluate(table.nodes_rad[:-1])
+    if free_centre:
+        csx, csy = area_centroid(x, y)
+        cnx, cny = area_centroid(nodes_x, nodes_y)
+    step = max(1, x.size // 120)
+    xs, ys = x[::step], y[::step]
     r_nom = np.hypot(nodes_x, nodes_y)
     p0 = table.polar_rad
     ext_p, ext_r = np.append(p0, p0[0] + 2 * math.pi), np.append(r_nom, r_nom[0])
 
+    def centre(phis: FloatArray) -> tuple[FloatArray, FloatArray]:
+        if not free_centre:
+            return np.full(phis.shape, dx), np.full(phis.shape, dy)
+        c, s = np.cos(phis), np.sin(phis)
+        return csx - (c * cnx - s * cny), csy - (s * cnx + c * cny)
+
     def cost(phis: FloatArray) -> FloatArray:
-        ang = p0[0] + np.mod(pol[None, :] - phis[:, None] - p0[0], 2 * math.pi)
-        return np.asarray(np.median(np.abs(r[None, :] - np.interp(ang, ext_p, ext_r)), axis=1))
+        cx, cy = centre(phis)
+        u, v = xs[None, :] - cx[:, None], ys[None, :] - cy[:, None]
+        r, pol = np.hypot(u, v), np.arctan2(v, u)
+        ang = p0[0] + np.mod(pol - phis[:, None] - p0[0], 2 * math.pi)
+        return np.asarray(np.median(np.abs(r - np.interp(ang, ext_p, ext_r)), axis=1))
 
     coarse = np.radians(np.arange(0.0, 360.0, 1.0))
     best = float(coarse[int(np.argmin(cost(coarse)))])
     fine = best + np.radians(np.arange(-1.0, 1.0001, 0.1))
-    return float(fine[int(np.argmin(cost(fine)))])
+    phi = float(fine[int(np.argmin(cost(fine)))])
+    cx, cy = centre(np.array([phi]))
+    return phi, float(cx[0]), float(cy[0])
 
 
 def find_outliers(
@@ -321,7 +374,10 @@ def register(
         phi0 = math.atan2(py - dy, px - dx) - math.radians(datum.point_angle_deg)
         fit_rotation = False
     else:
-        phi0, fit_rotation = _coarse_rotation(table, x_mm, y_mm, dx, dy), True
+        phi0, cx0, cy0 = _coarse_rotation(table, x_mm, y_mm, dx, dy, fit_translation)
+        fit_rotation = True
+        if fit_translation:  # start from the centre that matches the area centroids
+            dx, dy = cx0, cy0
     names = (["rotation"] if fit_rotation else []) + (["dx", "dy"] if fit_translation else [])
     params0 = np.array(([phi0] if fit_rotation else []) + ([dx, dy] if fit_translation else []))
 
