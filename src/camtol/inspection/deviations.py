@@ -141,7 +141,8 @@ class CmmInspection:
     registration : Registration
         Placement of the cam frame in the CMM frame, with uncertainties and outliers.
     index : ndarray of int
-        Index of each profile point in the scan (bore points excluded).
+        Data row (0-based, in the file) of each profile point (bore points and the other
+        cam's points excluded).
     x_mm, y_mm : ndarray
         Points in the cam frame. [mm]
     theta_deg : ndarray
@@ -361,7 +362,7 @@ def inspect_scan(
         cam=prof.label,
         source=scan.source,
         registration=reg,
-        index=index,
+        index=scan.rows[index],
         x_mm=xc,
         y_mm=yc,
         theta_deg=theta_deg,
