@@ -321,3 +321,31 @@ def test_scan_of_the_other_cam_of_a_pair_is_named(capsys, scan_b: Path) -> None:
     )
     assert code == 2
     assert "it matches cam B: use --cam B" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cmm_options_bad_input(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    code, _, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--cmm-a", str(scan_b))
+    assert code == 2 and "--cmm-a and --cmm-b go together" in err
+    code, _, err = _run(
+        capsys, "inspect", "-e", "cw11-experiment", "--points", str(scan_b), "--datum", "centre:1,x"
+    )
+    assert code == 2 and "--datum" in err and len(err.strip().splitlines()) == 1
+    code, _, err = _run(
+        capsys, "inspect", "-e", "roller-translating", "--points", str(scan_b), "--cam", "B"
+    )
+    assert code == 2 and "cam B exists only for a conjugate pair" in err
+    out = tmp_path / "r.csv"
+    code, _, err = _run(
+        capsys,
+        "simulate",
+        "record",
+        "-e",
+        "roller-translating",
+        "-o",
+        str(out),
+        "--truth-a",
+        str(scan_b.with_name("b.truth.json")),
+        "--truth-b",
+        str(scan_b.with_name("b.truth.json")),
+    )
+    assert code == 2 and "conjugate" in err and not out.exists()
