@@ -161,9 +161,9 @@ class SimulatedScan:
     param_rad : ndarray
         Profile parameter of each point. [rad]
     true_dn_um : ndarray
-        Noise-free normal deviation of each point (exact for a normal error; the
-        first-order Δr cos λ... is not used: for a radial error the exact value comes from
-        the deviation code and is not stored, NaN). [µm]
+        Noise-free normal deviation of each point: the error itself for a normal error,
+        0 without an error, NaN for a radial error (its exact normal deviation is not
+        a closed form). [µm]
     truth : ScanTruth
         The parameters.
     """
