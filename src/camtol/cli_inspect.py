@@ -184,7 +184,14 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     "--tolerance-um",
     "tolerance",
     metavar="LO,HI",
-    help="Profile tolerance on Δn [µm] (default: the design's).",
+    help="Profile tolerance [µm] (default: the design's).",
+)
+@click.option(
+    "--tolerance-on",
+    "tolerance_on",
+    type=click.Choice(["dn", "dr"]),
+    help="Deviation the tolerance bounds: normal Δn or radial Δr (default: the design's"
+    " kind; dn for --tolerance-um).",
 )
 @click.option(
     "--harmonics",
@@ -227,6 +234,7 @@ def inspect(
     datum_point: str | None,
     loss: str,
     tolerance: str | None,
+    tolerance_on: str | None,
     harmonics: int,
     step_deg: float,
     as_json: bool,
@@ -270,7 +278,16 @@ def inspect(
             stylus_radius_mm=stylus_mm,
             aliases=aliases,
         )
-        insp = inspect_scan(d, scan, cam=cam, datum=datum, tolerance_um=tol, profile=prof)  # type: ignore[arg-type]
+        kind = None if tolerance_on is None else ("normal" if tolerance_on == "dn" else "radial")
+        insp = inspect_scan(
+            d,
+            scan,
+            cam=cam,  # type: ignore[arg-type]
+            datum=datum,
+            tolerance_um=tol,
+            tolerance_kind=kind,  # type: ignore[arg-type]
+            profile=prof,
+        )
         func = None
         try:
             func = functional_deviation(prof, insp, step_deg=step_deg, harmonics=harmonics)
@@ -353,7 +370,14 @@ def cmm_pair_masters(
     for cam, path in (("A", cmm_a), ("B", cmm_b)):
         scan = read_scan(path, cam=cam, stylus_radius_mm=stylus_radius_mm)  # type: ignore[arg-type]
         tol = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
-        insp = inspect_scan(design, scan, cam=cam, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
+        insp = inspect_scan(
+            design,
+            scan,
+            cam=cam,  # type: ignore[arg-type]
+            datum=datum,
+            tolerance_um=tol,
+            tolerance_kind="radial",
+        )
         normals.append(
             fourier_fit(insp.param_rad[insp.kept], insp.dn_um[insp.kept] * 1e-3, DEFAULT_HARMONICS)
         )

@@ -309,3 +309,27 @@ def test_best_fit_with_the_cmm_origin_far_from_the_cam(cw11) -> None:  # type: i
     assert reg.rotation_deg == pytest.approx(130.0, abs=1e-3)
     assert reg.dx_mm == pytest.approx(sim.truth.dx_mm, abs=1e-3)
     assert reg.dy_mm == pytest.approx(sim.truth.dy_mm, abs=1e-3)
+
+
+def test_radial_tolerance_bounds_dr_and_normal_bounds_dn(cw11) -> None:  # type: ignore[no-untyped-def]
+    # A radial error: |Δr| ≥ |Δn| (Δn ≈ Δr cos λ). A limit between max|Δn| and max|Δr|
+    # fails on Δr and passes on Δn; the pair's [inspection] tolerance is radial.
+    # extremes at θ = 60° and 240°, mid-rise and mid-return, where |λ| > 20°
+    c, s = math.cos(math.radians(60.0)), math.sin(math.radians(60.0))
+    err = FourierError(0.0, cos_mm=(0.05 * c,), sin_mm=(0.05 * s,))
+    sim = simulate_scan(cw11, points=3600, noise_um=0.0, profile_error=err)
+    datum = Datum("centre", centre_mm=(0.0, 0.0), angle_deg=0.0)
+    base = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum)
+    assert base.tolerance_kind == "radial" and base.tolerance_um == (-220.0, 220.0)
+    a_dn, a_dr = float(np.max(np.abs(base.dn_um))), float(np.max(np.abs(base.dr_um)))
+    assert a_dr > a_dn + 0.5
+    lim = 0.5 * (a_dn + a_dr)
+    on_dr = inspect_scan(
+        cw11,
+        _scan(sim.x_mm, sim.y_mm),
+        datum=datum,
+        tolerance_um=(-lim, lim),
+        tolerance_kind="radial",
+    )
+    on_dn = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum, tolerance_um=(-lim, lim))
+    assert not on_dr.passed and on_dn.passed and on_dn.tolerance_kind == "normal"

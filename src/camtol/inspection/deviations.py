@@ -9,19 +9,21 @@ frame:
 - the profile form: the zone width max Δn − min Δn, and the minimum-zone value, the
   smallest width over the transforms the datum leaves free (a linear programme on the
   linearised deviations Δn + J δ, solved by :func:`scipy.optimize.linprog`);
-- the verdict against the design's profile tolerance [lower, upper] (µm, applied to Δn:
-  ISO 1101's line-profile zone is along the normal) and the polar-angle intervals where
-  points fall outside it. Outliers (reported by index) do not enter the verdict.
+- the verdict against the design's profile tolerance [lower, upper] µm and the
+  polar-angle intervals where points fall outside it. Outliers (reported by index) do
+  not enter the verdict.
 
-The profile tolerance is the design's ``tolerances.n`` or ``tolerances.r`` (± the
-resolved value; THEORY §3.6), or for a conjugate pair ``inspection.tolerance_a_um`` /
-``tolerance_b_um``, unless given explicitly.
+The profile tolerance is the design's ``tolerances.n`` (on Δn: ISO 1101's line-profile
+zone along the normal) or ``tolerances.r`` (on Δr, ± the resolved value; THEORY §3.6), or
+for a conjugate pair ``inspection.tolerance_a_um`` / ``tolerance_b_um`` (radial, THEORY
+§4.3), unless given explicitly (on Δn by default).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,8 +42,11 @@ __all__ = [
     "cam_profile",
     "inspect_scan",
     "minimum_zone",
-    "profile_tolerance_um",
+    "ToleranceKind",
+    "profile_tolerance",
 ]
+
+ToleranceKind = Literal["normal", "radial"]
 
 #: A scan whose points lie further than this from the nominal (90th percentile of |Δn|,
 #: after registration) is refused as a scan of another part, unless the tolerance is
@@ -100,8 +105,14 @@ def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
     return CamProfile(cam, single, profile_table(single.mechanism, single.program))
 
 
-def profile_tolerance_um(design: CamDesign, cam: CamLabel = "A") -> tuple[float, float] | None:
-    """Return the profile tolerance [lower, upper] of a cam from its design, or None. [µm]
+def profile_tolerance(
+    design: CamDesign, cam: CamLabel = "A"
+) -> tuple[float, float, ToleranceKind] | None:
+    """Return the profile tolerance [lower, upper] of a cam and what it bounds, or None.
+
+    ``inspection.tolerance_a_um`` / ``tolerance_b_um`` of a conjugate pair and
+    ``tolerances.r`` bound the radial deviation Δr (THEORY §0, §8.3); ``tolerances.n``
+    the normal deviation Δn.
 
     Parameters
     ----------
@@ -109,22 +120,27 @@ def profile_tolerance_um(design: CamDesign, cam: CamLabel = "A") -> tuple[float,
         The design (for a conjugate pair, the pair's design with its [inspection] table).
     cam : {"A", "B"}
         Which cam.
+
+    Returns
+    -------
+    (float, float, str) or None
+        Lower and upper limit [µm] and ``"radial"`` or ``"normal"``.
     """
     raw = design.extras.get("inspection")
     if isinstance(raw, dict):
         key = f"tolerance_{cam.lower()}_um"
         value = raw.get(key, raw.get("tolerance_a_um"))
         if isinstance(value, list | tuple) and len(value) == 2:
-            return float(value[0]), float(value[1])
+            return float(value[0]), float(value[1]), "radial"
     keys = {t.key for t in design.tolerances}
-    for key in ("n", "r"):
+    for key, kind in (("n", "normal"), ("r", "radial")):
         if key in keys:
             from camtol.kinematics import kinematics
 
             theta = np.linspace(0.0, 2 * math.pi, 3601)
             r_max = float(kinematics(design, theta, check=False).radius_mm.max())
             dev = next(t for t in design.resolve_tolerances(r_max) if t.key == key)
-            return -dev.deviation * 1e3, dev.deviation * 1e3
+            return -dev.deviation * 1e3, dev.deviation * 1e3, kind  # type: ignore[return-value]
     return None
 
 
@@ -154,7 +170,9 @@ class CmmInspection:
     outlier : ndarray of bool
         Points reported as outliers (not in the verdict).
     tolerance_um : (float, float)
-        Profile tolerance [lower, upper] applied to Δn. [µm]
+        Profile tolerance [lower, upper]. [µm]
+    tolerance_kind : {"normal", "radial"}
+        The deviation the tolerance bounds: Δn or Δr.
     form_um : float
         Zone width max Δn − min Δn of the points kept. [µm]
     min_zone_um : float
@@ -175,6 +193,7 @@ class CmmInspection:
     dr_um: FloatArray
     outlier: NDArray[np.bool_]
     tolerance_um: tuple[float, float]
+    tolerance_kind: str
     form_um: float
     min_zone_um: float
     failing_intervals_deg: list[tuple[float, float]]
@@ -268,6 +287,7 @@ def inspect_scan(
     cam: CamLabel = "A",
     datum: Datum | None = None,
     tolerance_um: tuple[float, float] | None = None,
+    tolerance_kind: ToleranceKind | None = None,
     profile: CamProfile | None = None,
 ) -> CmmInspection:
     """Register a scan to the nominal cam and compute its deviations and verdict.
@@ -283,7 +303,10 @@ def inspect_scan(
     datum : Datum, optional
         Registration (default: best fit over rotation and translation).
     tolerance_um : (float, float), optional
-        Profile tolerance [lower, upper] on Δn (default: the design's). [µm]
+        Profile tolerance [lower, upper] (default: the design's). [µm]
+    tolerance_kind : {"normal", "radial"}, optional
+        Whether the tolerance bounds Δn or Δr (default: the design's kind, or
+        ``"normal"`` for a tolerance given here).
     profile : CamProfile, optional
         The cam's tabulated profile, when already built (:func:`cam_profile`).
 
@@ -301,7 +324,11 @@ def inspect_scan(
     """
     datum = Datum() if datum is None else datum
     prof = cam_profile(design, cam) if profile is None else profile
-    tol = profile_tolerance_um(design, cam) if tolerance_um is None else tolerance_um
+    design_tol = profile_tolerance(design, cam) if tolerance_um is None else None
+    tol = (design_tol[0], design_tol[1]) if design_tol is not None else tolerance_um
+    kind: str = tolerance_kind or (design_tol[2] if design_tol is not None else "normal")
+    if kind not in ("normal", "radial"):
+        raise DesignError(f"tolerance kind {kind!r} is not allowed; use normal or radial")
     if tol is None:
         raise DesignError(
             f"the design {design.name!r} states no profile tolerance (tolerances.r or"
@@ -357,7 +384,8 @@ def inspect_scan(
     jac = _free_jacobian(reg, xc, yc, nx, ny)
     dn_um, dr_um = dn * 1e3, dr * 1e3
     theta_deg = np.mod(np.degrees(np.arctan2(yc, xc)), 360.0)
-    fail = kept & ((dn_um < tol[0]) | (dn_um > tol[1]))
+    dev_um = dn_um if kind == "normal" else dr_um
+    fail = kept & ((dev_um < tol[0]) | (dev_um > tol[1]))
     return CmmInspection(
         cam=prof.label,
         source=scan.source,
@@ -371,6 +399,7 @@ def inspect_scan(
         dr_um=dr_um,
         outlier=outlier,
         tolerance_um=(float(tol[0]), float(tol[1])),
+        tolerance_kind=kind,
         form_um=float(np.ptp(dn_um[kept])),
         min_zone_um=1e3 * minimum_zone(dn[kept], jac[kept]),
         failing_intervals_deg=_intervals(theta_deg, fail),

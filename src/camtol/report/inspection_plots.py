@@ -71,8 +71,14 @@ def inspection_figure(
     axs = fig.subplots(1, ncols)
     ax = axs[0]
     ax.plot(x, y, color="0.3", lw=0.8, label="nominal")
+    radial = insp.tolerance_kind == "radial"
+    if radial:  # the zone is along O2A
+        r = np.hypot(x, y)
+        zx, zy = x / r, y / r
+    else:
+        zx, zy = nx, ny
     for v, style in ((lo, "--"), (hi, "--")):
-        ax.plot(x + mag * v * 1e-3 * nx, y + mag * v * 1e-3 * ny, "C2", ls=style, lw=0.8)
+        ax.plot(x + mag * v * 1e-3 * zx, y + mag * v * 1e-3 * zy, "C2", ls=style, lw=0.8)
     ax.plot([], [], "C2--", lw=0.8, label=f"tolerance [{lo:g}, {hi:g}] µm")
     px, py, pdx, pdy, _, _ = table.evaluate(insp.param_rad)
     ps = np.hypot(pdx, pdy)
@@ -91,10 +97,11 @@ def inspection_figure(
     ax.set_ylabel("y [mm]")
     ax.legend(fontsize=7, loc="upper right")
     ax = axs[1]
+    dev, name = (insp.dr_um, "Δr") if radial else (insp.dn_um, "Δn")
     order = np.argsort(insp.theta_deg[k])
-    ax.plot(insp.theta_deg[k][order], insp.dn_um[k][order], "C0", lw=0.7, label="Δn")
+    ax.plot(insp.theta_deg[k][order], dev[k][order], "C0", lw=0.7, label=name)
     if np.any(~k):
-        ax.plot(insp.theta_deg[~k], insp.dn_um[~k], "rx", ms=5, label="outliers")
+        ax.plot(insp.theta_deg[~k], dev[~k], "rx", ms=5, label="outliers")
     ax.axhline(lo, color="C2", ls="--", lw=0.8)
     ax.axhline(hi, color="C2", ls="--", lw=0.8, label="tolerance")
     for a, b in insp.failing_intervals_deg:
@@ -104,9 +111,9 @@ def inspection_figure(
     ax.set_xlim(0, 360)
     ax.set_xticks(range(0, 361, 60))
     ax.set_xlabel("polar angle θ [deg]")
-    ax.set_ylabel("normal deviation Δn [µm]")
+    ax.set_ylabel(f"{'radial' if radial else 'normal'} deviation {name} [µm]")
     verdict = "pass" if insp.passed else "FAIL"
-    ax.set_title(f"Δn: form {insp.form_um:.3g} µm, {verdict}")
+    ax.set_title(f"{name} (tolerance on it): form {insp.form_um:.3g} µm, {verdict}")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     if functional is not None:

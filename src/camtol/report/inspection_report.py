@@ -79,6 +79,7 @@ def inspection_json(
         "stylus_radius_mm": stylus_radius_mm,
         "verdict": "pass" if insp.passed else "fail",
         "tolerance_um": list(insp.tolerance_um),
+        "tolerance_on": "dn_um" if insp.tolerance_kind == "normal" else "dr_um",
         "registration": {
             "mode": reg.mode,
             "fitted": list(reg.fitted),
@@ -203,7 +204,8 @@ def inspection_text(data: dict[str, Any]) -> list[str]:
     fails = data["failing_intervals_deg"]
     where = ", ".join(f"{a:.1f}-{b:.1f}°" for a, b in fails)
     lines.append(
-        f"verdict: {data['verdict'].upper()} against [{lo:g}, {hi:g}] µm"
+        f"verdict: {data['verdict'].upper()} against [{lo:g}, {hi:g}] µm on"
+        f" {'Δn' if data['tolerance_on'] == 'dn_um' else 'Δr'}"
         + (f"; outside at polar angles {where}" if fails else "")
     )
     return lines
