@@ -25,6 +25,7 @@ BENCHMARKS = [
     "bench_contact",
     "bench_inspection",
     "bench_manufacturing",
+    "bench_record",
 ]
 
 if __name__ == "__main__":

@@ -237,7 +237,6 @@ def simulate_record_cmd(
         check_output_path(output, "--output", [".csv"])
         from camtol.exceptions import InputFileError
         from camtol.inspection import FixtureErrors, simulate_record, write_indicator_csv
-        from camtol.inspection.fixture import fixture_spec_from_mapping
         from camtol.inspection.twin import error_from_truth, fixture_delta_f
 
         d = load_input(design, example)
@@ -253,8 +252,7 @@ def simulate_record_cmd(
             kinds.add(kind)
         if len(kinds) > 1:
             fail("--truth-a and --truth-b apply their errors differently (radial/normal)")
-        raw_spec = d.extras.get("inspection")
-        errors = fixture_spec_from_mapping(raw_spec).errors if raw_spec else FixtureErrors()
+        errors = d.inspection.errors if d.inspection is not None else FixtureErrors()
         df = fixture_delta_f(d, errs[0], errs[1], errors, error_kind=kinds.pop())
         rec = simulate_record(
             df, revolutions=revolutions, samples_per_revolution=samples, noise_um=noise_um, rng=seed

@@ -12,7 +12,7 @@ import pytest
 
 from camtol.cli import main
 from camtol.config import load_example
-from camtol.inspection.fixture import acceptance_bands, conjugate_factors, fixture_spec_from_mapping
+from camtol.inspection import acceptance_bands, conjugate_factors
 
 
 def _run(capsys, *args: str) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
@@ -220,7 +220,8 @@ def test_table2_band_widths_from_the_constants() -> None:
     # B(u) − B(l) = 335.17 µm at 219.3° (±220 µm tolerance, zero masters). The chapter
     # prints two decimals (truncated: 335.1786 reads 335.17), hence abs=0.01 µm.
     d = load_example("cw11-experiment")
-    spec = fixture_spec_from_mapping(d.extras["inspection"])
+    spec = d.inspection
+    assert spec is not None
     fac = conjugate_factors(np.radians([216.4, 219.3]), d)
     b = acceptance_bands(
         fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors

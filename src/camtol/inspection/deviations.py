@@ -126,12 +126,10 @@ def profile_tolerance(
     (float, float, str) or None
         Lower and upper limit [µm] and ``"radial"`` or ``"normal"``.
     """
-    raw = design.extras.get("inspection")
-    if isinstance(raw, dict):
-        key = f"tolerance_{cam.lower()}_um"
-        value = raw.get(key, raw.get("tolerance_a_um"))
-        if isinstance(value, list | tuple) and len(value) == 2:
-            return float(value[0]), float(value[1]), "radial"
+    spec = design.inspection
+    if spec is not None:
+        lo, hi = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
+        return float(lo), float(hi), "radial"
     keys = {t.key for t in design.tolerances}
     for key, kind in (("n", "normal"), ("r", "radial")):
         if key in keys:
