@@ -333,3 +333,14 @@ def test_radial_tolerance_bounds_dr_and_normal_bounds_dn(cw11) -> None:  # type:
     )
     on_dn = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum, tolerance_um=(-lim, lim))
     assert not on_dr.passed and on_dn.passed and on_dn.tolerance_kind == "normal"
+
+
+def test_stylus_compensation_unmoved_by_an_outlying_neighbour() -> None:
+    # Ball centres on a circle with one outlier 0.1 mm off: every other point still
+    # compensates onto the circle exactly (median over three neighbour spans).
+    ang = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
+    rad = np.full(ang.size, 41.0)
+    rad[100] += 0.1
+    out = compensate_stylus(_scan(rad * np.cos(ang), rad * np.sin(ang)), 1.0)
+    r = np.hypot(out.x_mm, out.y_mm)
+    assert np.max(np.abs(np.delete(r, 100) - 40.0)) < 1e-10

@@ -276,7 +276,8 @@ def local_normals(
     The points are ordered by polar angle about their centroid; the normal at p_i is that of
     the circle through p_{i−k}, p_i, p_{i+k} (exact on a circle for any spacing), oriented
     outwards (the counterclockwise chord p_{i+k} − p_{i−k} turned clockwise), and the
-    turned chord itself where the three are collinear.
+    turned chord itself where the three are collinear; the median over the spans k − 1,
+    k and k + 1, so that one outlying neighbour does not tilt it.
 
     Parameters
     ----------
@@ -295,6 +296,26 @@ def local_normals(
     # Ordered about the points' centroid: inside the cam whatever the CMM frame's origin.
     order = np.argsort(np.arctan2(y_mm - np.mean(y_mm), x_mm - np.mean(x_mm)), kind="stable")
     px, py = x_mm[order], y_mm[order]
+    # Three spans k − 1, k, k + 1 and the median normal: a single outlier among the
+    # neighbours spoils only one of them.
+    spans = sorted({max(1, k - 1), k, k + 1}) if span is None else [k]
+    cands = [_circle_normal(px, py, kk) for kk in spans]
+    nx, ny = cands[len(cands) // 2]
+    if len(cands) == 3:
+        ref_x, ref_y = nx, ny
+        ang = np.stack(
+            [np.arctan2(ref_x * cy - ref_y * cx, ref_x * cx + ref_y * cy) for cx, cy in cands]
+        )
+        med = np.median(ang, axis=0)
+        c, s_ = np.cos(med), np.sin(med)
+        nx, ny = c * ref_x - s_ * ref_y, s_ * ref_x + c * ref_y
+    out_x, out_y = np.empty(n), np.empty(n)
+    out_x[order], out_y[order] = nx, ny
+    return out_x, out_y
+
+
+def _circle_normal(px: FloatArray, py: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+    """Outward normals of ordered points from the circle through p_{i−k}, p_i, p_{i+k}."""
     ax, ay = np.roll(px, k) - px, np.roll(py, k) - py
     bx, by = np.roll(px, -k) - px, np.roll(py, -k) - py
     tx, ty = bx - ax, by - ay
@@ -309,11 +330,7 @@ def local_normals(
         cx, cy = -ux / ru, -uy / ru
     sign = np.sign(cx * ntx + cy * nty)
     ok = np.isfinite(cx) & np.isfinite(cy) & (np.abs(d) > 1e-12 * (a2 + b2)) & (sign != 0)
-    nx = np.where(ok, sign * cx, ntx)
-    ny = np.where(ok, sign * cy, nty)
-    out_x, out_y = np.empty(n), np.empty(n)
-    out_x[order], out_y[order] = nx, ny
-    return out_x, out_y
+    return np.where(ok, sign * cx, ntx), np.where(ok, sign * cy, nty)
 
 
 def compensate_stylus(scan: Scan, radius_mm: float) -> Scan:
