@@ -19,6 +19,7 @@ import pytest
 
 from camtol.cli import main
 from camtol.config import load_example
+from camtol.conjugate import conjugate_kinematics
 from camtol.inspection.fixture import (
     conjugate_factors,
     conjugate_variation,
@@ -26,7 +27,7 @@ from camtol.inspection.fixture import (
     inspect_conjugate,
 )
 from camtol.kinematics import analysis_grid
-from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
+from camtol.mechanisms.conjugate import ConjugatePair
 
 
 @pytest.fixture(scope="module")

@@ -143,14 +143,10 @@ def _quantities(
         Quantity("radius", "radial dimension |O2A|", "mm"),
         Quantity("curvature_radius", "radius of curvature ρ", "mm"),
     ]
-    if mech.kind.startswith("flat"):
+    if mech.has_face:
         q.append(Quantity("face_contact", "contact on face u", "mm"))
-    if mech.output == "translating":
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / cos φ", "-"))
-    elif mech.kind.startswith("flat"):
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / u", "deg/mm"))
-    else:  # oscillating roller (THEORY §3.3)
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / (l cos φ)", "deg/mm"))
+    factor_unit = "-" if mech.output == "translating" else "deg/mm"
+    q.append(Quantity("radial_factor", mech.radial_factor_label, factor_unit))
     for t in tolerances:
         q.append(Quantity(f"dS_{t.key}", f"ΔS_{t.key} ({t.display})", unit))
     q += [

@@ -258,12 +258,12 @@ def _exact_delta(
             radial_error=err if key == "r" else None,
             normal_error=err if key == "n" else None,
         )
-        res = follow(theta, shape, mech, left_limit=left)
+        res = follow(shape, mech, theta, left_limit=left)
     else:
         res = follow(
-            theta,
             _nominal_shape(design),
             mech.perturbed(key, deviation),
+            theta,
             reference=mech,
             left_limit=left,
         )
@@ -333,7 +333,7 @@ def _polyline(design: CamDesign) -> PolylineCheck:
     # material), < 0 in a concave stretch (the chord adds material). The profile runs
     # counterclockwise, so an outward bulge lies to the right of the chord.
     sag = -(dx * (py.v - y0) - dy * (px.v - x0)) / np.hypot(dx, dy)
-    res = follow(mid, poly, design.mechanism)
+    res = follow(poly, design.mechanism, mid)
     nominal = design.program.evaluate(mid).lift
     err = nominal - res.lift
     unit_n = ResolvedTolerance("n", 1.0, "mm", "unit normal error")
@@ -389,7 +389,7 @@ def verify(design: CamDesign, *, step_deg: float = 0.1, polyline: bool = True) -
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     kinematics(design, theta, left_limit=left, check=True)
     motion = design.program.evaluate(theta, left_limit=left)
-    res = follow(theta, _nominal_shape(design), design.mechanism, left_limit=left)
+    res = follow(_nominal_shape(design), design.mechanism, theta, left_limit=left)
     tolerances = design.resolve_tolerances(max_radius_mm(design))
     checks, notes = _linearisation(design, tolerances, theta, left)
     return Verification(
@@ -493,9 +493,10 @@ def verify_conjugate(
         Also check the exported polylines.
     """
     from camtol.analysis import max_radius_mm
+    from camtol.conjugate import cam_design, conjugate_kinematics
     from camtol.contact.fixture import Fixture, simulate_fixture
     from camtol.inspection.fixture import conjugate_factors, conjugate_variation
-    from camtol.mechanisms.conjugate import ConjugatePair, cam_design, conjugate_kinematics
+    from camtol.mechanisms.conjugate import ConjugatePair
 
     pair = design.mechanism
     assert isinstance(pair, ConjugatePair)

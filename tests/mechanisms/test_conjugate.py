@@ -18,6 +18,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from test_roller_oscillating import OscillatingRollerContract
 
+from camtol.conjugate import cam_design, conjugate_kinematics
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
 from camtol.inspection.fixture import (
@@ -27,12 +28,7 @@ from camtol.inspection.fixture import (
     conjugate_variation,
 )
 from camtol.kinematics import kinematics
-from camtol.mechanisms.conjugate import (
-    ConjugateCamB,
-    ConjugatePair,
-    cam_design,
-    conjugate_kinematics,
-)
+from camtol.mechanisms.conjugate import ConjugateCamB, ConjugatePair
 from camtol.mechanisms.roller_oscillating import RollerOscillating
 from camtol.motion import Segment, SegmentProgram
 

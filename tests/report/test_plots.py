@@ -117,7 +117,7 @@ def test_cam_plot_marks_contact_point(name: str, theta_deg: float) -> None:
     assert ax.get_xlabel() == "X [mm]" and ax.get_ylabel() == "Y [mm]"
     assert_labelled(ax.figure)
     if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import cam_design
+        from camtol.conjugate import cam_design
 
         design = cam_design(design, "A")
     k = kinematics(design, np.radians([theta_deg]), check=False)

@@ -37,11 +37,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from camtol.conjugate import conjugate_kinematics
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, InputFileError
 from camtol.extremes import Extreme, find_extremes
 from camtol.jet import FloatArray
-from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
+from camtol.mechanisms.conjugate import ConjugatePair
 
 __all__ = [
     "AcceptanceBands",

@@ -17,11 +17,11 @@ import numpy as np
 
 from camtol import __version__
 from camtol.analysis import Analysis
+from camtol.conjugate import cam_design
 from camtol.extremes import Extreme
 from camtol.inspection.fixture import FixtureInspection, FixtureSpec, merge_intervals
 from camtol.jet import FloatArray
 from camtol.kinematics import kinematics
-from camtol.mechanisms.conjugate import cam_design
 
 if TYPE_CHECKING:
     from camtol.inspection.record import RecordEstimates

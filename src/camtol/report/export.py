@@ -244,7 +244,7 @@ def _single_curves(
 
 def _curve_specs(design: CamDesign, cutter_radius_mm: float | None) -> list[_CurveSpec]:
     if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import cam_design
+        from camtol.conjugate import cam_design
 
         return _single_curves(
             cam_design(design, "A"), "CAM_A_", "cam A ", cutter_radius_mm
@@ -256,7 +256,7 @@ def _check_design(design: CamDesign) -> None:
     """Raise if the design cannot be made (undercut, V ≥ 1, ...), with the cam angle."""
     theta, left = analysis_grid(0.1, design.program.boundaries_rad)
     if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import conjugate_kinematics
+        from camtol.conjugate import conjugate_kinematics
 
         conjugate_kinematics(design, theta, left_limit=left, check=True)
     else:

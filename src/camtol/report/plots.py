@@ -313,7 +313,7 @@ def cam_plot(design: CamDesign, theta_deg: float, ax: Axes | None = None) -> lis
     arts: list[Any] = []
     conj = mech.kind == "conjugate"
     if conj:
-        from camtol.mechanisms.conjugate import cam_design
+        from camtol.conjugate import cam_design
 
         cams = [("cam A", cam_design(design, "A")), ("cam B", cam_design(design, "B"))]
     else:
