@@ -156,6 +156,8 @@ class Mechanism(ABC):
     radial_factor_label: ClassVar[str] = "ΔS_r/Δr"
     #: The contact point moves along a flat face (``analyze`` reports u).
     has_face: ClassVar[bool] = False
+    #: Position in lists of follower types (messages, documentation).
+    listing_order: ClassVar[int] = 100
 
     @classmethod
     def from_parameters(cls: type[M], values: Mapping[str, float | None]) -> M:

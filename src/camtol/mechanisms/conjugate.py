@@ -228,13 +228,16 @@ class ConjugatePair(Mechanism):
     roller_b_radius_mm: float | None = None
 
     kind: ClassVar[str] = "conjugate"
+    listing_order: ClassVar[int] = 5
     output: ClassVar[OutputKind] = "oscillating"
     title: ClassVar[str] = "conjugate cams, oscillating double roller"
     radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / (l cos φ)"
     parameters: ClassVar[tuple[Parameter, ...]] = (
         length("base_radius_mm", "base-circle radius r_b of cam A"),
         length("roller_radius_mm", "radius r_C of roller C (on cam A)"),
-        length("roller_b_radius_mm", "radius r_D of roller D (on cam B); default r_C"),
+        length(
+            "roller_b_radius_mm", "radius r_D of roller D (on cam B); default r_C", optional=True
+        ),
         length("pivot_distance_mm", "centre distance f = |O2O3|"),
         length("arm_a_mm", "arm length l_A = |O3C|"),
         length("arm_b_mm", "arm length l_B = |O3D|"),

@@ -253,6 +253,7 @@ class RollerOscillating(RollerMechanism):
     arm_length_mm: float
 
     kind: ClassVar[str] = "roller_oscillating"
+    listing_order: ClassVar[int] = 4
     output: ClassVar[OutputKind] = "oscillating"
     title: ClassVar[str] = "oscillating roller"
     radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / (l cos φ)"

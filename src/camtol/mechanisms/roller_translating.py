@@ -93,6 +93,7 @@ class RollerTranslating(RollerMechanism):
     offset_mm: float = 0.0
 
     kind: ClassVar[str] = "roller_translating"
+    listing_order: ClassVar[int] = 3
     output: ClassVar[OutputKind] = "translating"
     title: ClassVar[str] = "translating roller"
     radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / cos φ"

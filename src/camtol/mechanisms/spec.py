@@ -96,7 +96,9 @@ class Parameter:
         return f"{self.minimum:g} {op} x {op} {self.maximum:g} {self.unit}"
 
 
-def length(name: str, description: str, *, default: float | None = None) -> Parameter:
+def length(
+    name: str, description: str, *, default: float | None = None, optional: bool = False
+) -> Parameter:
     """Declare a positive length in the plausible range :data:`LENGTH_RANGE_MM`.
 
     Parameters
@@ -107,6 +109,8 @@ def length(name: str, description: str, *, default: float | None = None) -> Para
         What it is.
     default : float, optional
         Makes the field optional. [mm]
+    optional : bool
+        The field may be omitted without a default (the mechanism gets None).
 
     Returns
     -------
@@ -114,7 +118,7 @@ def length(name: str, description: str, *, default: float | None = None) -> Para
         The declaration.
     """
     lo, hi = LENGTH_RANGE_MM
-    return Parameter(name, name, description, lo, hi, default, default is None)
+    return Parameter(name, name, description, lo, hi, default, default is None and not optional)
 
 
 def offset(name: str, description: str, *, default: float = 0.0) -> Parameter:
