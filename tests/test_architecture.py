@@ -27,7 +27,12 @@ CORE = [
     "extremes.py",
     "iso286.py",
     "analysis.py",
+    "sizing.py",
+    "tables.py",
+    "grid.py",
     "contact",
+    "manufacturing",
+    "table_noise.py",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 
