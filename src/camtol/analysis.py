@@ -23,7 +23,7 @@ from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
 
-__all__ = ["Analysis", "Quantity", "analyse", "max_radius_mm"]
+__all__ = ["Analysis", "Quantity", "analyse", "analyze", "max_radius_mm"]
 
 #: Default analysis grid step. [deg]
 DEFAULT_STEP_DEG = 0.1
@@ -205,8 +205,8 @@ def _radial_sensitivity(
     return e.sources["r"].sensitivity
 
 
-def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
-    """Analyse a design: kinematics, per-source errors, worst case, RMS and extremes.
+def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
+    """Analyze a design: kinematics, per-source errors, worst case, RMS and extremes.
 
     Parameters
     ----------
@@ -262,6 +262,11 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         accuracy,
         _notes(design, kin),
     )
+
+
+#: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and
+#: of the ``camtol analyze`` command).
+analyse = analyze
 
 
 def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:

@@ -295,6 +295,12 @@ def _register_subcommands() -> None:
     from camtol.cli_size import size
 
     cli.add_command(size)
+    # the British spelling, hidden: one spelling in the help (issue 8)
+    import copy
+
+    alias = copy.copy(analyze)
+    alias.hidden = True
+    cli.add_command(alias, "analyse")
 
 
 _register_subcommands()

@@ -5,7 +5,7 @@ Three checks, each against exact contact geometry (no linearisation, no stepping
 1. Round trip: the profile synthesised by THEORY §2 is handed to the contact engine with
    the nominal follower; the follower's exact motion must reproduce S(θ) to 1e-9 (mm, or
    rad for an oscillating follower).
-2. Polyline: the profile as exported (:func:`camtol.report.export.profile_points`, its
+2. Polyline: the profile as exported (:func:`camtol.profile.profile_points`, its
    default chordal tolerance) is a polygon inscribed in the curve; the follower's motion
    on it must fall short of S(θ) by the chordal sag of each chord times the output's
    sensitivity to a normal profile error (THEORY §3), no more and no less.
@@ -317,7 +317,7 @@ def _linearisation(
 
 
 def _polyline(design: CamDesign) -> PolylineCheck:
-    from camtol.report.export import DEFAULT_TOLERANCE_MM, profile_points
+    from camtol.profile import DEFAULT_TOLERANCE_MM, profile_points
 
     curve = profile_points(design).profile
     poly = PolygonShape(np.column_stack([curve.x_mm, curve.y_mm]))

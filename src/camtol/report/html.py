@@ -367,7 +367,7 @@ def write_report(
     :func:`~camtol.report.plots.fixture_figure`). The file is written to a temporary name
     and renamed into place.
     """
-    from camtol.report.export import ExportError
+    from camtol.exceptions import ExportError
     from camtol.report.files import atomic_write
 
     p = Path(path)
