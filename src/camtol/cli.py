@@ -243,10 +243,11 @@ def _json_default(o: Any) -> Any:
 
 
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
+    from camtol.drawing import analysis_drawing
     from camtol.report.files import atomic_output
     from camtol.report.plots import analysis_figure
 
-    fig = analysis_figure(analysis, cam_angle_deg=cam_angle_deg)
+    fig = analysis_figure(analysis, analysis_drawing(analysis, cam_angle_deg))
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
 

@@ -204,6 +204,7 @@ def report_html(
         The complete HTML document.
     """
     from camtol import __version__
+    from camtol.drawing import analysis_drawing
     from camtol.report.plots import analysis_figure, fixture_figure
 
     a = (
@@ -296,7 +297,7 @@ def report_html(
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
-            analysis_figure(a),
+            analysis_figure(a, analysis_drawing(a)),
             "The cam and follower at the angle of the largest worst-case error; shift and"
             " pressure angles; radial-error factor; displacement, velocity and acceleration"
             " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
