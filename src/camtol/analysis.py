@@ -70,6 +70,9 @@ class Analysis:
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
     notes : tuple of str
         What the user must know to trust the numbers (e.g. a lift table's precision).
+    other_cams : tuple of (str, Kinematics)
+        The kinematics of the design's further cams (cam B of a conjugate pair) on the
+        same grid, by label; see :meth:`cam_kinematics`.
     """
 
     design: CamDesign
@@ -84,6 +87,33 @@ class Analysis:
     travel: float
     accuracy: iso286.GradeBracket
     notes: tuple[str, ...] = ()
+    other_cams: tuple[tuple[str, Kinematics], ...] = ()
+
+    def cam_kinematics(self, label: str) -> Kinematics:
+        """Kinematics of one cam of the design on the analysis grid (:meth:`CamDesign.cams`).
+
+        Parameters
+        ----------
+        label : str
+            ``""`` or the first cam's label for :attr:`kinematics`; ``"B"`` for cam B of a
+            conjugate pair (in :attr:`other_cams`).
+
+        Returns
+        -------
+        Kinematics
+            That cam's kinematics (internal units).
+
+        Raises
+        ------
+        KeyError
+            If the design has no such cam.
+        """
+        for name, kin in self.other_cams:
+            if name == label:
+                return kin
+        if label in ("", self.design.cams()[0].label):
+            return self.kinematics
+        raise KeyError(f"cam {label!r} is not a cam of design {self.design.name!r}")
 
     @property
     def error_unit(self) -> str:
@@ -374,6 +404,10 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         travel,
         accuracy,
         _notes(design, kin),
+        tuple(
+            (cam.label, kinematics(cam.design, theta, left_limit=left, check=False))
+            for cam in design.cams()[1:]
+        ),
     )
 
 

@@ -40,6 +40,7 @@ __all__ = [
     "ProfilePoints",
     "curve_specs",
     "profile_points",
+    "profile_table",
 ]
 
 #: Default chordal tolerance of exported polylines (0.1 µm). [mm]
@@ -435,3 +436,30 @@ def profile_points(
         _sample_curve(spec, bounds, tolerance_mm) for spec in curve_specs(design, cutter_radius_mm)
     )
     return ProfilePoints(design.name, tolerance_mm, cutter_radius_mm, curves)
+
+
+def profile_table(design: CamDesign, points: ProfilePoints) -> dict[str, FloatArray]:
+    """Every sampled curve at the union of their vertex angles, as CSV-ready columns.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design whose curves were sampled.
+    points : ProfilePoints
+        From :func:`profile_points`.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``theta_deg`` [deg], then ``<layer>_x_mm`` and ``<layer>_y_mm`` [mm] of every
+        curve (layer in lower case), evaluated exactly on the analytic curves.
+    """
+    theta = np.unique(np.concatenate([c.theta_rad for c in points.curves]))
+    specs = {s.layer: s for s in curve_specs(design, points.cutter_radius_mm)}
+    cols: dict[str, FloatArray] = {"theta_deg": np.degrees(theta)}
+    for c in points.curves:
+        s = specs[c.layer].evaluate(theta, np.zeros(theta.size, bool))
+        name = c.layer.lower()
+        cols[f"{name}_x_mm"] = s.x
+        cols[f"{name}_y_mm"] = s.y
+    return cols

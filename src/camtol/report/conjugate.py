@@ -17,11 +17,9 @@ import numpy as np
 
 from camtol import __version__
 from camtol.analysis import Analysis
-from camtol.conjugate import cam_design
 from camtol.extremes import Extreme
 from camtol.inspection.fixture import FixtureInspection, FixtureSpec, merge_intervals
 from camtol.jet import FloatArray
-from camtol.kinematics import kinematics
 
 if TYPE_CHECKING:
     from camtol.inspection.record import RecordEstimates
@@ -58,8 +56,7 @@ def conjugate_profile_columns(
     dict of str to ndarray
         The columns with the cam A/B renaming and cam B's columns added, in CSV order.
     """
-    k = a.kinematics
-    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    kb = a.cam_kinematics("B")
     out: dict[str, np.ndarray[Any, Any]] = {}
     for name, values in cols.items():
         if name == "x_mm":
@@ -96,8 +93,7 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
         Cam B's largest radius and smallest radius of curvature [mm], where it occurs, and
         the ranges of its pressure and shift angles [deg].
     """
-    k = a.kinematics
-    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    kb = a.cam_kinematics("B")
     i = int(np.argmin(kb.curvature_radius_mm))
     return {
         "max_radius_mm": float(kb.radius_mm.max()),

@@ -33,8 +33,8 @@ from camtol.profile import (
     DEFAULT_TOLERANCE_MM,
     ProfileCurve,
     ProfilePoints,
-    curve_specs,
     profile_points,
+    profile_table,
 )
 from camtol.report.files import atomic_write
 
@@ -58,16 +58,8 @@ ExportFormat = Literal["csv", "dxf", "svg"]
 # ---------------------------------------------------------------------------------------
 # Writers
 # ---------------------------------------------------------------------------------------
-def _csv_text(design: CamDesign, points: ProfilePoints) -> str:
-    """One row per cam angle (union of every curve's vertices), x and y of each curve."""
-    theta = np.unique(np.concatenate([c.theta_rad for c in points.curves]))
-    specs = {s.layer: s for s in curve_specs(design, points.cutter_radius_mm)}
-    cols: dict[str, FloatArray] = {"theta_deg": np.degrees(theta)}
-    for c in points.curves:
-        s = specs[c.layer].evaluate(theta, np.zeros(theta.size, bool))
-        name = c.layer.lower()
-        cols[f"{name}_x_mm"] = s.x
-        cols[f"{name}_y_mm"] = s.y
+def _csv_text(cols: dict[str, FloatArray]) -> str:
+    """One row per cam angle: the columns of :func:`camtol.profile.profile_table`."""
     buf = io.StringIO()
     buf.write(",".join(cols) + "\n")
     data = np.column_stack(list(cols.values()))
@@ -217,7 +209,7 @@ def write_profile(
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
     points = profile_points(design, tolerance_mm=tolerance_mm, cutter_radius_mm=cutter_radius_mm)
     if fmt == "csv":
-        data = _csv_text(design, points).encode("utf-8")
+        data = _csv_text(profile_table(design, points)).encode("utf-8")
     elif fmt == "dxf":
         data = _dxf_bytes(points)
     else:

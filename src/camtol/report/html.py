@@ -17,13 +17,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.analysis import Analysis, analyse
-from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.design import IT_CONVENTIONS
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from camtol.analysis import Analysis
     from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+    from camtol.study import Study
 
 __all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
 
@@ -122,18 +123,6 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _inspection(
-    design: CamDesign, base_dir: Path | None
-) -> tuple[FixtureInspection, FixtureSpec] | None:
-    raw = design.extras.get("inspection")
-    if design.mechanism.kind != "conjugate" or not raw:
-        return None
-    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
-
-    spec = fixture_spec_from_mapping(raw, base_dir=base_dir)  # type: ignore[arg-type]
-    return inspect_conjugate(design, spec), spec
-
-
 def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None) -> str:
     d = a.design
     k = a.kinematics
@@ -186,17 +175,14 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(
-    design_or_analysis: CamDesign | Analysis, *, base_dir: str | Path | None = None
-) -> str:
+def report_html(study: Study) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
-    base_dir : str or Path, optional
-        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`; the report only
+        formats it.
 
     Returns
     -------
@@ -204,16 +190,15 @@ def report_html(
         The complete HTML document.
     """
     from camtol import __version__
-    from camtol.drawing import analysis_drawing
     from camtol.report.plots import analysis_figure, fixture_figure
 
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
+    a = study.analysis
     d = a.design
-    fixture = _inspection(d, Path(base_dir) if base_dir is not None else None)
+    fixture = (
+        (study.fixture, study.fixture_spec)
+        if study.fixture is not None and study.fixture_spec is not None
+        else None
+    )
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -297,7 +282,7 @@ def report_html(
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
-            analysis_figure(a, analysis_drawing(a)),
+            analysis_figure(a, study.drawing),
             "The cam and follower at the angle of the largest worst-case error; shift and"
             " pressure angles; radial-error factor; displacement, velocity and acceleration"
             " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
@@ -330,22 +315,15 @@ def report_html(
     return "\n".join(parts) + "\n"
 
 
-def write_report(
-    design_or_analysis: CamDesign | Analysis,
-    path: str | Path,
-    *,
-    base_dir: str | Path | None = None,
-) -> Analysis:
+def write_report(study: Study, path: str | Path) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
-    base_dir : str or Path, optional
-        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
 
     Returns
     -------
@@ -354,10 +332,8 @@ def write_report(
 
     Raises
     ------
-    camtol.report.export.ExportError
+    camtol.exceptions.ExportError
         Wrong suffix or missing directory; nothing is written.
-    GeometryError, UndercutError, DesignError
-        The design cannot be analysed; nothing is written.
 
     Notes
     -----
@@ -378,10 +354,5 @@ def write_report(
         )
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
-    atomic_write(p, report_html(a, base_dir=base_dir))
-    return a
+    atomic_write(p, report_html(study))
+    return study.analysis
