@@ -382,7 +382,7 @@ def verify(design: CamDesign, *, step_deg: float = 0.1, polyline: bool = True) -
     GeometryError, UndercutError
         If the design cannot produce its motion (as ``analyze`` would report).
     """
-    if design.mechanism.kind == "conjugate":
+    if len(design.cams()) > 1:  # both cams together: through the measuring fixture
         return verify_conjugate(design, step_deg=step_deg, polyline=polyline)
     from camtol.analysis import max_radius_mm
 
@@ -493,7 +493,7 @@ def verify_conjugate(
         Also check the exported polylines.
     """
     from camtol.analysis import max_radius_mm
-    from camtol.conjugate import cam_design, conjugate_kinematics
+    from camtol.conjugate import conjugate_kinematics
     from camtol.contact.fixture import Fixture, simulate_fixture
     from camtol.inspection.fixture import conjugate_factors, conjugate_variation
     from camtol.mechanisms.conjugate import ConjugatePair
@@ -555,8 +555,9 @@ def verify_conjugate(
     }
     poly_a = None
     if polyline:
-        poly_a = _polyline(design)
-        poly_b = _polyline(cam_design(design, "B"))
+        cam_a, cam_b = (c.design for c in design.cams())
+        poly_a = _polyline(cam_a)
+        poly_b = _polyline(cam_b)
         extras["polyline_b"] = dataclasses.asdict(poly_b)
     rt = float(np.max(np.abs(nominal.lift - motion.lift)))
     return Verification(

@@ -136,7 +136,7 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
         f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
         ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
     ]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         from camtol.report.conjugate import conjugate_analysis_json
 
         b = conjugate_analysis_json(a)
@@ -264,7 +264,7 @@ def report_html(study: Study) -> str:
     parts.append("<h2>Conventions and assumptions</h2><ul>")
     parts += [f"<li>{_e(c)}</li>" for c in CONVENTIONS]
     parts += [f"<li>IT grades: {_e(c)}</li>" for c in IT_CONVENTIONS]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         parts.append(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
