@@ -242,10 +242,9 @@ def report(
 
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
-        base_dir = Path(design).parent if design is not None else None
         from camtol.study import study
 
-        write_report(study(a, base_dir=base_dir), output)
+        write_report(study(a), output)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

@@ -45,7 +45,7 @@ import math
 from collections.abc import Mapping
 from functools import lru_cache
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import (
@@ -75,6 +75,9 @@ from camtol.motion import (
 )
 from camtol.sources import DESIGN_SOURCES
 from camtol.tables import read_table
+
+if TYPE_CHECKING:
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = [
     "dump_design",
@@ -240,7 +243,8 @@ class DesignSchema(_Strict):
     motion: MotionSchema
     tolerances: dict[str, Any] = {}
     operation: OperationSchema = OperationSchema()
-    # Sections used by other commands (e.g. the conjugate fixture) pass through.
+    # The conjugate fixture's inputs: typed by camtol.inspection.spec (field names checked
+    # there, so that messages name them as `inspection.<field>`).
     inspection: dict[str, Any] = {}
 
 
@@ -435,12 +439,21 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             pressure_angle_limit_deg=top.operation.pressure_angle_limit_deg,
             description=top.description,
             reference=top.reference,
-            extras={"inspection": top.inspection} if top.inspection else {},
+            inspection=_inspection(top.inspection, base_dir),
         )
     except ConfigError:
         raise
     except DesignError as exc:
         raise ConfigError(str(exc)) from None
+
+
+def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | None:
+    """Return the ``[inspection]`` table as a typed, frozen spec (None when absent)."""
+    if not raw:
+        return None
+    from camtol.inspection.spec import fixture_spec_from_mapping
+
+    return fixture_spec_from_mapping(raw, base_dir=base_dir)
 
 
 def load_design(path: str | Path) -> CamDesign:

@@ -116,6 +116,6 @@ def dump_design(design: CamDesign) -> str:
         "motion": _motion_table(design),
         "tolerances": tolerances or None,
         "operation": {k: v for k, v in operation.items() if v is not None} or None,
-        "inspection": design.extras.get("inspection") or None,
+        "inspection": (design.inspection.to_mapping() or None) if design.inspection else None,
     }
     return toml_writer.dumps(doc)

@@ -13,13 +13,16 @@ import hashlib
 import json
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from camtol import iso286
 from camtol.exceptions import DesignError
 from camtol.mechanisms.base import ErrorSource, Mechanism
 from camtol.motion import MotionProgram
 from camtol.sources import DESIGN_SOURCES
+
+if TYPE_CHECKING:
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = ["Cam", "CamDesign", "ResolvedTolerance", "ToleranceSpec", "IT_CONVENTIONS"]
 
@@ -110,6 +113,9 @@ class CamDesign:
         Design limit on |pressure angle|: exceeding it is warned about. [deg]
     description, reference : str
         Free text shown in reports.
+    inspection : FixtureSpec, optional
+        The conjugate fixture's inputs from the design file's ``[inspection]`` table
+        (THEORY §4), validated and typed (:mod:`camtol.inspection.spec`).
     """
 
     name: str
@@ -120,6 +126,7 @@ class CamDesign:
     pressure_angle_limit_deg: float | None = None
     description: str = ""
     reference: str = ""
+    inspection: FixtureSpec | None = None
     extras: dict[str, object] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
@@ -207,8 +214,9 @@ class CamDesign:
             ``format`` (``"camtol-design-1"``), ``name``, ``description``, ``reference``,
             ``follower`` (type and every dataclass field), ``motion``
             (:meth:`camtol.motion.MotionProgram.canonical`), ``tolerances`` (key with grade
-            or file-unit deviation, in order), ``operation`` and ``extras`` (e.g. the
-            ``[inspection]`` table).
+            or file-unit deviation, in order), ``operation``, ``inspection`` (the
+            ``[inspection]`` table as validated; a CSV-backed function enters by its path,
+            not its content) and ``extras``.
         """
         mech = self.mechanism
         follower: dict[str, Any] = {"type": mech.kind}
@@ -226,6 +234,9 @@ class CamDesign:
                 "speed_rpm": _canonical(self.speed_rpm),
                 "pressure_angle_limit_deg": _canonical(self.pressure_angle_limit_deg),
             },
+            "inspection": (
+                None if self.inspection is None else _canonical(self.inspection.to_mapping())
+            ),
             "extras": _canonical(self.extras),
         }
 

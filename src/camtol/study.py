@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from camtol.analysis import Analysis, analyze
@@ -16,7 +15,8 @@ from camtol.design import CamDesign
 from camtol.drawing import CamDrawing, analysis_drawing
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+    from camtol.inspection.fixture import FixtureInspection
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = ["Study", "study"]
 
@@ -43,15 +43,13 @@ class Study:
     fixture_spec: FixtureSpec | None = None
 
 
-def study(design_or_analysis: CamDesign | Analysis, *, base_dir: str | Path | None = None) -> Study:
+def study(design_or_analysis: CamDesign | Analysis) -> Study:
     """Compute everything a report of the design shows.
 
     Parameters
     ----------
     design_or_analysis : CamDesign or Analysis
         A design (analysed with the default 0.1° step) or a finished analysis.
-    base_dir : str or Path, optional
-        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
 
     Returns
     -------
@@ -69,11 +67,9 @@ def study(design_or_analysis: CamDesign | Analysis, *, base_dir: str | Path | No
         else analyze(design_or_analysis)
     )
     design = a.design
-    raw = design.extras.get("inspection")
-    if len(design.cams()) < 2 or not raw:
+    spec = design.inspection
+    if len(design.cams()) < 2 or spec is None:
         return Study(a, analysis_drawing(a))
-    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
+    from camtol.inspection.fixture import inspect_conjugate
 
-    folder = Path(base_dir) if base_dir is not None else None
-    spec = fixture_spec_from_mapping(raw, base_dir=folder)  # type: ignore[arg-type]
     return Study(a, analysis_drawing(a), inspect_conjugate(design, spec), spec)

@@ -23,7 +23,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from camtol.analysis import Analysis
-    from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+    from camtol.inspection.fixture import FixtureInspection
+    from camtol.inspection.spec import FixtureSpec
     from camtol.study import Study
 
 __all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
