@@ -509,7 +509,7 @@ def verify_conjugate(
         theta, shape_a, shape_b, Fixture.of(pair), initial_angle_rad=xi0, left_limit=left
     )
     cases, origin = _fixture_inputs(design, max_radius_mm(design))
-    factors = conjugate_factors(theta, design)
+    factors = conjugate_factors(design, theta)
     checks: dict[str, LinearisationCheck] = {}
     for key, (ea, eb, const) in cases.items():
         lin, ex = [], []

@@ -49,7 +49,7 @@ def test_master_cams_and_constant_errors_match_forward_analysis_to_second_order(
     spec = d.inspection
     assert spec is not None
     theta = np.radians(np.arange(0.0, 360.0, 0.5))
-    fac = conjugate_factors(theta, d)
+    fac = conjugate_factors(d, theta)
     diffs = []
     for k in (1.0, 0.5):
         ea = FourierError(18.5e-3 * k, sin_mm=(3.5e-3 * k,))
