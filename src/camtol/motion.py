@@ -321,9 +321,11 @@ class SegmentProgram(MotionProgram):
         idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
         out = [np.zeros_like(t) for _ in range(4)]
         for i, seg in enumerate(self.segments):
-            m = idx == i
-            if not np.any(m):
+            rows = np.flatnonzero(idx == i)
+            if rows.size == 0:
                 continue
+            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
+            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
                 continue

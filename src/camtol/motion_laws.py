@@ -47,21 +47,23 @@ NormalizedLaw = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray,
 
 def _cycloidal(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     w = TWO_PI * x
+    sin_w, cos_w = np.sin(w), np.cos(w)  # once each: transcendentals dominate the cost
     return (
-        x - np.sin(w) / TWO_PI,
-        1.0 - np.cos(w),
-        TWO_PI * np.sin(w),
-        TWO_PI**2 * np.cos(w),
+        x - sin_w / TWO_PI,
+        1.0 - cos_w,
+        TWO_PI * sin_w,
+        TWO_PI**2 * cos_w,
     )
 
 
 def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     w = math.pi * x
+    sin_w, cos_w = np.sin(w), np.cos(w)
     return (
-        0.5 * (1.0 - np.cos(w)),
-        0.5 * math.pi * np.sin(w),
-        0.5 * math.pi**2 * np.cos(w),
-        -0.5 * math.pi**3 * np.sin(w),
+        0.5 * (1.0 - cos_w),
+        0.5 * math.pi * sin_w,
+        0.5 * math.pi**2 * cos_w,
+        -0.5 * math.pi**3 * sin_w,
     )
 
 
