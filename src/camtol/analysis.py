@@ -197,6 +197,7 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> f
     float
         Largest radial dimension of the profile. [mm]
     """
+    design = design.cams()[0].design  # the first cam's (cam A's: the tolerances' cam)
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     r = kinematics(design, theta, left_limit=left, check=False).radius_mm
     return _refined_max_radius(design, theta, r, step_deg)

@@ -48,7 +48,7 @@ def roundtrip(mech: Mechanism, prog: SegmentProgram, step: float = 0.25) -> np.n
     [
         (roller_translating().mechanism, roller_translating().program),
         (roller_oscillating().mechanism, roller_oscillating().program),
-        (conjugate_pair(), program(r(30.0))),
+        (conjugate_pair().cam_a, program(r(30.0))),
         (conjugate_pair().cam_b, program(r(30.0))),
     ],
     ids=["translating", "oscillating", "conjugate-A", "conjugate-B"],

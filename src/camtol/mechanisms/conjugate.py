@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol import jet
 from camtol.exceptions import DesignError
@@ -229,9 +228,11 @@ class ConjugatePair(Mechanism):
 
     Notes
     -----
-    As a :class:`~camtol.mechanisms.base.Mechanism` the pair stands for cam A (its contact,
-    sensitivities and curvature are cam A's, :attr:`cam_a`); :attr:`cam_b` is cam B, and
-    :func:`conjugate_kinematics` evaluates both. The follower turns with the cam during a
+    The pair is two cams, not one: :meth:`cams` gives cam A (:attr:`cam_a`) and cam B
+    (:attr:`cam_b`), and every single-contact evaluation (contact, sensitivities,
+    curvature, contact engine) goes through them; the pair's own ones raise.
+    :func:`camtol.conjugate.conjugate_kinematics` evaluates both together. Its error
+    sources and their IT nominal sizes are cam A's. The follower turns with the cam during a
     rise (THEORY §0), q = fV/(1 − V).
     """
 
@@ -266,7 +267,7 @@ class ConjugatePair(Mechanism):
             exclusive=True,
         ),
     )
-    #: Cam A's sources; ``rf`` is roller C, ``l`` arm A (the pair stands for cam A).
+    #: The tolerances of a pair are cam A's: ``rf`` is roller C, ``l`` arm A.
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -351,19 +352,31 @@ class ConjugatePair(Mechanism):
         """ξ0 of the follower (cam A's base circle). [rad]"""
         return self.cam_a.initial_angle_rad
 
+    def _not_a_cam(self) -> DesignError:
+        return DesignError(
+            "a conjugate pair is two cams: evaluate each through design.cams() (cam A:"
+            " .cam_a, cam B: .cam_b)"
+        )
+
     def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
-        """Cam A's contact geometry (THEORY §2.4)."""
-        return self.cam_a.contact(theta, lift, velocity)
+        """Not defined for the pair: it has two contacts (use :meth:`cams`).
+
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
-        """Cam A's single-contact sensitivities (THEORY §3.3)."""
-        return self.cam_a.sensitivities(geometry, theta)
+        """Not defined for the pair (use :meth:`cams`).
 
-    def error_sensitivities(
-        self, theta: JetLike, lift: JetLike, velocity: JetLike
-    ) -> dict[str, JetLike]:
-        """Cam A's lean form (the pair stands for cam A)."""
-        return self.cam_a.error_sensitivities(theta, lift, velocity)
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     def curvature_radius(
         self,
@@ -372,20 +385,24 @@ class ConjugatePair(Mechanism):
         velocity: FloatArray,
         acceleration: FloatArray,
     ) -> FloatArray:
-        """Cam A's signed profile radius of curvature. [mm]"""
-        return self.cam_a.curvature_radius(theta_rad, lift, velocity, acceleration)
+        """Not defined for the pair (use :meth:`cams`).
 
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Cam A's undercut mask."""
-        return self.cam_a.undercut_mask(curvature_radius_mm)
-
-    def undercut_message(self, curvature_radius_mm: float, theta_deg: float) -> str:
-        """Cam A's undercut message."""
-        return self.cam_a.undercut_message(curvature_radius_mm, theta_deg)
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     def contact_element(self) -> RollerGuide:
-        """Cam A's roller (the pair's single-contact view is cam A)."""
-        return self.cam_a.contact_element()
+        """Not defined for the pair: the fixture holds both rollers (use :meth:`cams`).
+
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     @property
     def pivot_clearance_mm(self) -> float:
