@@ -192,3 +192,31 @@ def test_pending_exceptions_are_still_real() -> None:
 def test_no_module_above_600_lines(rel: str) -> None:
     n = len((PACKAGE / rel).read_text(encoding="utf-8").splitlines())
     assert n <= 600, f"{rel} has {n} lines; split it by concept"
+
+
+@pytest.mark.parametrize("rel", ALL)
+def test_exceptions_live_in_one_module(rel: str) -> None:
+    """Every exception class camtol defines is in camtol.exceptions (a CamtolError)."""
+    if rel == "exceptions.py":
+        return
+    tree = ast.parse((PACKAGE / rel).read_text(encoding="utf-8"))
+    defined = [
+        node.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ClassDef)
+        and not node.name.startswith("_")  # private control flow (e.g. the CLI's exit)
+        and any(
+            isinstance(b, ast.Name) and (b.id.endswith("Error") or b.id == "Exception")
+            for b in node.bases
+        )
+    ]
+    assert defined == [], f"{rel} defines {defined}; define errors in camtol/exceptions.py"
+
+
+def test_every_error_is_a_camtol_error() -> None:
+    from camtol import exceptions
+
+    for name in exceptions.__all__:
+        obj = getattr(exceptions, name)
+        if isinstance(obj, type) and issubclass(obj, Exception) and name.endswith("Error"):
+            assert issubclass(obj, exceptions.CamtolError), name
