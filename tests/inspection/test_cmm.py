@@ -9,6 +9,7 @@ import pytest
 
 from camtol.config import load_example
 from camtol.contact import AnalyticShape, FourierError
+from camtol.exceptions import DesignError
 from camtol.inspection.cmm import Scan, compensate_stylus, local_normals
 from camtol.inspection.deviations import cam_profile, inspect_scan, minimum_zone
 from camtol.inspection.functional import fourier_fit, functional_deviation
@@ -344,3 +345,20 @@ def test_stylus_compensation_unmoved_by_an_outlying_neighbour() -> None:
     out = compensate_stylus(_scan(rad * np.cos(ang), rad * np.sin(ang)), 1.0)
     r = np.hypot(out.x_mm, out.y_mm)
     assert np.max(np.abs(np.delete(r, 100) - 40.0)) < 1e-10
+
+
+def test_motion_spec_judges_max_abs_ds_measured() -> None:
+    # The functional verdict (issue 12 item 4): max |ΔS_measured| against the motion spec.
+    d = load_example(EXAMPLES[0][0])
+    prof = cam_profile(d, EXAMPLES[0][1])  # type: ignore[arg-type]
+    err = FourierError(0.0, cos_mm=(0.0, 0.004), sin_mm=(0.002,))
+    free = functional_deviation(prof, err, step_deg=1.0)
+    assert free.spec is None and free.passed is None
+    worst = free.max_abs_measured
+    ok = functional_deviation(prof, err, step_deg=1.0, spec=1.001 * worst)
+    bad = functional_deviation(prof, err, step_deg=1.0, spec=0.999 * worst)
+    assert ok.passed is True and bad.passed is False
+    np.testing.assert_array_equal(ok.ds_measured, free.ds_measured)
+    for spec in (0.0, -1.0, math.nan, math.inf):
+        with pytest.raises(DesignError, match="spec="):
+            functional_deviation(prof, err, step_deg=1.0, spec=spec)

@@ -350,3 +350,57 @@ def test_cmm_options_bad_input(capsys, scan_b: Path, tmp_path: Path) -> None:  #
         str(scan_b.with_name("b.truth.json")),
     )
     assert code == 2 and "conjugate" in err and not out.exists()
+
+
+def test_motion_spec_pass_and_fail(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    base = ["inspect", "-e", "cw11-experiment", "--points", str(scan_b), "--cam", "B"]
+    base += ["--stylus-radius-mm", "1", "--json"]
+    code, out, err = _run(capsys, *base)
+    assert code == 0, err
+    m = json.loads(out)["motion"]
+    assert m["spec"] is None and m["verdict"] is None
+    worst = m["max_abs_dS_measured"]  # deg: cw11 has an oscillating follower
+    code, out, err = _run(capsys, *base, "--spec-deg", f"{1.01 * worst!r}")
+    data = json.loads(out)
+    assert code == 0, err
+    assert data["motion"]["verdict"] == "pass" and data["verdict"] == "pass"
+    assert data["motion"]["spec"] == pytest.approx(1.01 * worst, rel=1e-12)
+    motion = tmp_path / "m.csv"
+    code, out, err = _run(capsys, *base, "--spec-deg", f"{0.99 * worst!r}", "--motion", str(motion))
+    data = json.loads(out)
+    assert code == 1  # the profile passes, the follower error fails its spec
+    assert data["profile_verdict"] == "pass" and data["motion"]["verdict"] == "fail"
+    assert data["verdict"] == "fail" and motion.exists()
+    code, out, _ = _run(capsys, *base[:-1], "--spec-deg", f"{0.99 * worst!r}")
+    assert code == 1 and "FAIL against the motion spec" in out
+    assert "verdict: FAIL (profile and follower error)" in out
+
+
+@pytest.mark.parametrize(
+    ("flags", "needle"),
+    [
+        (["--spec-um", "5"], "--spec-um=5 is not allowed: the output of this cam is an angle"),
+        (["--spec-deg", "0"], "--spec-deg=0.0 is not allowed; give a number of degrees > 0"),
+        (["--spec-deg", "nan"], "--spec-deg=nan is not allowed"),
+        (["--spec-deg", "1", "--spec-um", "1"], "give --spec-um or --spec-deg, not both"),
+    ],
+)
+def test_motion_spec_bad_input(
+    capsys, scan_b: Path, tmp_path: Path, flags: list[str], needle: str
+) -> None:  # type: ignore[no-untyped-def]
+    curves = tmp_path / "c.csv"
+    code, out, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--curves",
+        str(curves),
+        *flags,
+    )
+    assert code == 2 and needle in err and len(err.strip().splitlines()) == 1
+    assert not curves.exists() and out == ""

@@ -164,6 +164,8 @@ class FunctionalDeviation:
         The smoothed Δn(t) the motion was computed from. [mm]
     harmonics : int
         Its Fourier cut-off.
+    spec : float or None
+        Motion spec: the largest allowed max |ΔS_measured| (None: not judged). [unit]
     """
 
     theta_rad: FloatArray
@@ -174,6 +176,7 @@ class FunctionalDeviation:
     ds_linear: FloatArray
     normal_error: FourierError
     harmonics: int
+    spec: float | None = None
 
     @property
     def max_abs_measured(self) -> float:
@@ -185,6 +188,11 @@ class FunctionalDeviation:
         """Max |ΔS_linear|. [unit]"""
         return float(np.max(np.abs(self.ds_linear)))
 
+    @property
+    def passed(self) -> bool | None:
+        """Whether max |ΔS_measured| ≤ :attr:`spec` (None when no spec was given)."""
+        return None if self.spec is None else self.max_abs_measured <= self.spec
+
 
 def functional_deviation(
     profile: CamProfile,
@@ -192,6 +200,7 @@ def functional_deviation(
     *,
     step_deg: float = 0.1,
     harmonics: int = DEFAULT_HARMONICS,
+    spec: float | None = None,
 ) -> FunctionalDeviation:
     """Exact follower-motion error of a measured cam and its linear prediction.
 
@@ -206,11 +215,24 @@ def functional_deviation(
         Cam-angle grid; 360 must be a multiple of it. [deg]
     harmonics : int
         Fourier cut-off of the smoothing.
+    spec : float, optional
+        Motion spec, the largest allowed max |ΔS_measured| in the unit of S (mm for a
+        translating follower, rad for an oscillating one); the result's
+        :attr:`~FunctionalDeviation.passed` judges against it. [mm or rad]
 
     Returns
     -------
     FunctionalDeviation
+
+    Raises
+    ------
+    DesignError
+        If ``spec`` is not a finite number > 0.
     """
+    if spec is not None and not (
+        isinstance(spec, (int, float)) and not isinstance(spec, bool) and 0 < spec < math.inf
+    ):
+        raise DesignError(f"spec={spec!r} is not allowed; give a finite number > 0 (mm or rad)")
     n = check_step(step_deg, name="step_deg", min_points=4)
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     if isinstance(source, CmmInspection):
@@ -233,4 +255,5 @@ def functional_deviation(
         ds_linear=np.broadcast_to(ds_lin, theta.shape).astype(float),
         normal_error=err,
         harmonics=harmonics if isinstance(source, CmmInspection) else len(err.cos_mm),
+        spec=None if spec is None else float(spec),
     )

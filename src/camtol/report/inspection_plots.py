@@ -122,11 +122,16 @@ def inspection_figure(
         scale, unit = (1e3, "µm") if functional.unit == "mm" else (3600 * 180 / math.pi, "arcsec")
         ax.plot(deg, functional.ds_measured * scale, "C0", lw=1.0, label="ΔS exact (contact)")
         ax.plot(deg, functional.ds_linear * scale, "C1--", lw=0.8, label="ΔS linear, (∂S/∂n)Δn")
+        title = f"Functional error (Fourier ≤ {functional.harmonics} harmonics)"
+        if functional.spec is not None:
+            ax.axhline(-functional.spec * scale, color="C2", ls="--", lw=0.8)
+            ax.axhline(functional.spec * scale, color="C2", ls="--", lw=0.8, label="motion spec")
+            title += ", " + ("pass" if functional.passed else "FAIL")
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 60))
         ax.set_xlabel("cam angle θ [deg]")
         ax.set_ylabel(f"follower error ΔS [{unit}]")
-        ax.set_title(f"Functional error (Fourier ≤ {functional.harmonics} harmonics)")
+        ax.set_title(title)
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     return fig
