@@ -362,3 +362,25 @@ def test_motion_spec_judges_max_abs_ds_measured() -> None:
     for spec in (0.0, -1.0, math.nan, math.inf):
         with pytest.raises(DesignError, match="spec="):
             functional_deviation(prof, err, step_deg=1.0, spec=spec)
+
+
+def test_public_cmm_names_from_the_package(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    # The user-facing CMM names are exported by camtol.inspection (issue 12) and are the
+    # concept modules' own objects; a scan inspected through them gives the same numbers.
+    import camtol.inspection as insp
+    from camtol.inspection import deviations, functional, twin
+
+    for name in ("read_scan", "inspect_scan", "cam_profile", "functional_deviation"):
+        assert name in insp.__all__
+    assert insp.inspect_scan is deviations.inspect_scan
+    assert insp.FunctionalDeviation is functional.FunctionalDeviation
+    assert insp.simulate_scan is twin.simulate_scan
+    assert not [n for n in insp.__all__ if n.startswith("_") or not hasattr(insp, n)]
+    d = load_example("roller-translating")
+    sim = insp.simulate_scan(d, points=720, noise_um=0.0, eccentricity_um=20.0)
+    path = tmp_path / "s.csv"
+    path.write_text(twin.scan_csv_text(sim), encoding="utf-8")
+    prof = insp.cam_profile(d, "A")
+    res = insp.inspect_scan(d, insp.read_scan(str(path)), profile=prof, datum=insp.Datum("fit"))
+    assert isinstance(res, insp.CmmInspection) and np.max(np.abs(res.dn_um)) < 1e-3
+    assert isinstance(insp.functional_deviation(prof, res, step_deg=1.0), insp.FunctionalDeviation)
