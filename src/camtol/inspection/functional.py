@@ -108,6 +108,10 @@ class SampledFourier:
     Exact values and derivatives on a fine grid (inverse FFT, at least 128 nodes per
     highest harmonic), quintic Hermite between nodes
     (errors O(h⁶) in Δ, O(h⁴) in Δ''; about 1e-13 mm and 1e-9 relative for 100 harmonics).
+    The contact engine evaluates the error several times per angle grid; the series
+    itself (:class:`~camtol.contact.FourierError`, one matrix product over the harmonics)
+    costs O(N·K) trigonometric evaluations per call, this O(N) after an O(M log M)
+    set-up: for 3,600 angles and 100 harmonics about 0.1 ms against 8 ms a call.
 
     Parameters
     ----------
@@ -241,11 +245,12 @@ def functional_deviation(
     else:
         err = source
     mech, program = profile.mechanism, profile.design.program
-    shape = AnalyticShape(mech, program, normal_error=SampledFourier(err))
+    sampled = SampledFourier(err)
+    shape = AnalyticShape(mech, program, normal_error=sampled)
     motion = follow(theta, shape, mech)
     nominal = program.evaluate(theta)
     sens = mech.error_sensitivities(theta, nominal.lift, nominal.velocity)["n"]
-    ds_lin = np.asarray(jet.value(sens), dtype=float) * err(theta).v
+    ds_lin = np.asarray(jet.value(sens), dtype=float) * sampled(theta).v
     return FunctionalDeviation(
         theta_rad=theta,
         unit="mm" if mech.output == "translating" else "rad",
