@@ -89,17 +89,60 @@ def fourier_fit(t_rad: ArrayLike, values_mm: ArrayLike, harmonics: int) -> Fouri
             np.concatenate([vs, vs, vs]),
         )
         t = grid
-    k = np.arange(1, harmonics + 1)
-    arg = t[:, None] * k[None, :]
-    a = np.concatenate([np.ones((t.size, 1)), np.cos(arg), np.sin(arg)], axis=1)
-    # Normal equations (well conditioned for points spread round the revolution: AᵀA is
-    # nearly N/2 times the identity), far cheaper than an SVD of A.
-    coef = np.linalg.solve(a.T @ a, a.T @ v)
+    coef = np.linalg.solve(*_normal_equations(t, v, harmonics))
     return FourierError(
         float(coef[0]),
         tuple(coef[1 : harmonics + 1].tolist()),
         tuple(coef[harmonics + 1 :].tolist()),
     )
+
+
+def _normal_equations(
+    t: FloatArray, v: FloatArray, harmonics: int
+) -> tuple[FloatArray, FloatArray]:
+    """Return the normal equations AᵀA c = Aᵀv of the Fourier least squares, in O(N·K).
+
+    A has the columns 1, cos kt, sin kt (k = 1..K). Its Gram matrix is made of the
+    trigonometric moments C_m + i S_m = Σ exp(i m t_n), m = 0..2K, by the product
+    formulas (cos jt cos kt = ½[cos (j−k)t + cos (j+k)t], etc.): the moments up to K are
+    column sums of the table exp(i k t), those from K+1 to 2K the products
+    exp(i K t) · exp(i j t) summed (one matrix-vector product), so that AᵀA costs O(N·K)
+    instead of the O(N·K²) of forming it from A. The system is well conditioned for
+    points spread round the revolution (AᵀA is nearly N/2 times the identity).
+
+    Parameters
+    ----------
+    t : ndarray
+        Profile parameters. [rad]
+    v : ndarray
+        Values. [mm]
+    harmonics : int
+        K.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        AᵀA, (2K+1, 2K+1), and Aᵀv, (2K+1,). [1, mm]
+    """
+    k = np.arange(1, harmonics + 1)
+    arg = np.multiply.outer(t, k)
+    c, s = np.cos(arg), np.sin(arg)
+    wr, wi = c[:, -1], s[:, -1]  # exp(iKt)
+    big_c = np.concatenate([[t.size], c.sum(axis=0), wr @ c - wi @ s])  # C_m, m = 0..2K
+    big_s = np.concatenate([[0.0], s.sum(axis=0), wr @ s + wi @ c])  # S_m
+    j = k[:, None]
+    diff, tot = np.abs(j - k), j + k
+    gram = np.empty((2 * harmonics + 1, 2 * harmonics + 1))
+    gram[0, 0] = t.size
+    gram[0, 1 : harmonics + 1] = gram[1 : harmonics + 1, 0] = big_c[k]
+    gram[0, harmonics + 1 :] = gram[harmonics + 1 :, 0] = big_s[k]
+    gram[1 : harmonics + 1, 1 : harmonics + 1] = 0.5 * (big_c[diff] + big_c[tot])
+    gram[harmonics + 1 :, harmonics + 1 :] = 0.5 * (big_c[diff] - big_c[tot])
+    cs = 0.5 * (big_s[tot] + np.sign(k - j) * big_s[diff])  # Σ cos jt sin kt
+    gram[1 : harmonics + 1, harmonics + 1 :] = cs
+    gram[harmonics + 1 :, 1 : harmonics + 1] = cs.T
+    rhs = np.concatenate([[v.sum()], v @ c, v @ s])
+    return gram, rhs
 
 
 class SampledFourier:
