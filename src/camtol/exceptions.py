@@ -13,6 +13,7 @@ __all__ = [
     "GeometryError",
     "InputFileError",
     "PressureAngleWarning",
+    "RecordError",
     "UndercutError",
 ]
 
@@ -43,3 +44,7 @@ class UndercutError(GeometryError):
 
 class PressureAngleWarning(UserWarning):
     """The pressure angle exceeds the design's limit but the cam still works."""
+
+
+class RecordError(CamtolError, ValueError):
+    """An inspection record or the store holding it is invalid, unreachable or too new."""
