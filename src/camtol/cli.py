@@ -371,6 +371,11 @@ def _register_subcommands() -> None:
         "derive",
         "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
     )
+    LAZY_COMMANDS["records"] = (
+        "camtol.cli_records",
+        "records",
+        "Stored inspection records: list them, show one, lot statistics (SQLite, PostgreSQL).",
+    )
     cli.lazy_commands.update(LAZY_COMMANDS)
 
 

@@ -9,6 +9,7 @@ lock upgrade; PostgreSQL serialises the first creation of the tables with an adv
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from datetime import timezone
 from typing import Any
 
@@ -144,51 +145,56 @@ def initialise(engine: Engine, version: int, *, create: bool) -> None:
         metadata.create_all(conn)  # tables added since (none yet); existing ones untouched
 
 
-def insert_record(engine: Engine, rec: InspectionRecord, design_text: str | None) -> int:
-    """Insert the design (if new), the record and its curve in one transaction."""
+def insert_records(
+    engine: Engine, recs: Sequence[InspectionRecord], design_text: str | None
+) -> list[int]:
+    """Insert the designs (if new), the records and their curves in one transaction."""
+    ids: list[int] = []
     with engine.begin() as conn:
-        known = conn.execute(
-            select(designs.c.design_hash).where(designs.c.design_hash == rec.design_hash)
-        ).first()
-        if known is None:
+        for rec in recs:
+            known = conn.execute(
+                select(designs.c.design_hash).where(designs.c.design_hash == rec.design_hash)
+            ).first()
+            if known is None:
+                conn.execute(
+                    insert(designs).values(
+                        design_hash=rec.design_hash, name=rec.design_name, toml=design_text
+                    )
+                )
+            new_id = conn.execute(
+                insert(inspections)
+                .values(
+                    design_name=rec.design_name,
+                    design_hash=rec.design_hash,
+                    method=rec.method,
+                    cam=rec.cam,
+                    part_number=rec.part_number,
+                    serial=rec.serial,
+                    lot=rec.lot,
+                    inspector=rec.inspector,
+                    instrument=rec.instrument,
+                    inspected_at=rec.inspected_at,
+                    verdict=rec.verdict,
+                    max_dev_um=rec.max_dev_um,
+                    min_dev_um=rec.min_dev_um,
+                    form_um=rec.form_um,
+                    max_abs_ds_um=rec.max_abs_ds_um,
+                    tolerance_lower_um=rec.tolerance_um[0],
+                    tolerance_upper_um=rec.tolerance_um[1],
+                    camtol_version=rec.camtol_version,
+                )
+                .returning(inspections.c.id)
+            ).scalar_one()
             conn.execute(
-                insert(designs).values(
-                    design_hash=rec.design_hash, name=rec.design_name, toml=design_text
+                insert(curves).values(
+                    inspection_id=new_id,
+                    name="dr_um",
+                    n_points=int(rec.dr_um.size),
+                    data=np.asarray(rec.dr_um, dtype=_DTYPE).tobytes(),
                 )
             )
-        new_id = conn.execute(
-            insert(inspections)
-            .values(
-                design_name=rec.design_name,
-                design_hash=rec.design_hash,
-                method=rec.method,
-                cam=rec.cam,
-                part_number=rec.part_number,
-                serial=rec.serial,
-                lot=rec.lot,
-                inspector=rec.inspector,
-                instrument=rec.instrument,
-                inspected_at=rec.inspected_at,
-                verdict=rec.verdict,
-                max_dev_um=rec.max_dev_um,
-                min_dev_um=rec.min_dev_um,
-                form_um=rec.form_um,
-                max_abs_ds_um=rec.max_abs_ds_um,
-                tolerance_lower_um=rec.tolerance_um[0],
-                tolerance_upper_um=rec.tolerance_um[1],
-                camtol_version=rec.camtol_version,
-            )
-            .returning(inspections.c.id)
-        ).scalar_one()
-        conn.execute(
-            insert(curves).values(
-                inspection_id=new_id,
-                name="dr_um",
-                n_points=int(rec.dr_um.size),
-                data=np.asarray(rec.dr_um, dtype=_DTYPE).tobytes(),
-            )
-        )
-        return int(new_id)
+            ids.append(int(new_id))
+    return ids
 
 
 def select_records(

@@ -20,7 +20,7 @@ from __future__ import annotations
 import hashlib
 import math
 import re
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -351,11 +351,23 @@ class InspectionStore:
         int
             The new record's id.
         """
+        return self.add_all([record], design_text=design_text)[0]
+
+    def add_all(
+        self, records: Sequence[InspectionRecord], *, design_text: str | None = None
+    ) -> list[int]:
+        """Store several records (e.g. cams A and B of a pair) in one transaction.
+
+        Returns
+        -------
+        list of int
+            The new records' ids, in order. On any error nothing is stored.
+        """
         try:
-            return self._sql.insert_record(self._engine, record, design_text)
+            return list(self._sql.insert_records(self._engine, records, design_text))
         except Exception as exc:
             raise RecordError(
-                f"--store={_safe(self.url)!r}: the record was not stored ({_brief(exc)})"
+                f"--store={_safe(self.url)!r}: nothing was stored ({_brief(exc)})"
             ) from None
 
     def get(self, record_id: int) -> InspectionRecord:
@@ -462,10 +474,3 @@ def record_inspection(
         return location.add(rec, design_text=design_text)
     with open_store(location) as store:
         return store.add(rec, design_text=design_text)
-
-
-def iter_curve_rows(records: Sequence[InspectionRecord]) -> Iterator[list[float]]:
-    """Rows θ, Δr of each record (records on one grid), for a curves CSV."""
-    theta = records[0].theta_deg
-    for i, t in enumerate(theta):
-        yield [float(t), *(float(r.dr_um[i]) for r in records)]
