@@ -327,11 +327,21 @@ class InspectionStore:
                 raise RecordError(f"--store={url!r}: directory {str(parent)!r} does not exist")
         try:
             self._engine = sql.make_engine(url)
-            sql.initialise(self._engine, SCHEMA_VERSION, create=create)
         except RecordError:
             raise
+        except Exception as exc:  # a malformed URL, a driver that is not installed
+            raise RecordError(
+                f"--store={_safe(url)!r}: cannot open the store ({_brief(exc)})"
+            ) from None
+        try:
+            sql.initialise(self._engine, SCHEMA_VERSION, create=create)
         except Exception as exc:  # driver and connection errors of any backend
-            raise RecordError(f"--store={_safe(url)!r}: cannot open the store ({_brief(exc)})")
+            self._engine.dispose()
+            if isinstance(exc, RecordError):
+                raise
+            raise RecordError(
+                f"--store={_safe(url)!r}: cannot open the store ({_brief(exc)})"
+            ) from None
 
     def __enter__(self) -> InspectionStore:
         return self
