@@ -207,11 +207,10 @@ def select_records(
     with_curves: bool = True,
 ) -> list[InspectionRecord]:
     """Records matching the filters, oldest first."""
-    query = select(inspections)
-    if with_curves:
-        query = select(inspections, curves.c.data).join(
-            curves, (curves.c.inspection_id == inspections.c.id) & (curves.c.name == "dr_um")
-        )
+    query = select(inspections, curves.c.n_points, *([curves.c.data] if with_curves else []))
+    query = query.join(
+        curves, (curves.c.inspection_id == inspections.c.id) & (curves.c.name == "dr_um")
+    )
     if record_id is not None:
         query = query.where(inspections.c.id == record_id)
     if design is not None:
@@ -262,5 +261,6 @@ def _record(row: Any, with_curve: bool) -> InspectionRecord:
         max_abs_ds_um=None if row["max_abs_ds_um"] is None else float(row["max_abs_ds_um"]),
         tolerance_um=(float(row["tolerance_lower_um"]), float(row["tolerance_upper_um"])),
         camtol_version=row["camtol_version"],
+        n_points=int(row["n_points"]),
         dr_um=data,
     )

@@ -105,8 +105,10 @@ class InspectionRecord:
         Radial tolerance (lower, upper) the verdict was taken against. [µm]
     camtol_version : str
         Version of camtol that made the record.
+    n_points : int
+        Number n of points of the deviation curve.
     dr_um : ndarray of float32
-        Deviation curve Δr(θ) at θ_i = 360° i / n. [µm]
+        Deviation curve Δr(θ) at θ_i = 360° i / n (empty when read without curves). [µm]
     """
 
     id: int | None
@@ -127,13 +129,13 @@ class InspectionRecord:
     max_abs_ds_um: float | None
     tolerance_um: tuple[float, float]
     camtol_version: str
+    n_points: int
     dr_um: FloatArray = field(repr=False)
 
     @property
     def theta_deg(self) -> FloatArray:
         """The curve's cam angles, 360° i / n. [deg]"""
-        n = self.dr_um.size
-        return np.arange(n) * (360.0 / n)
+        return np.arange(self.n_points) * (360.0 / self.n_points)
 
     def summary(self) -> dict[str, Any]:
         """The record without its curve, as JSON-ready values (keys of docs/records.md)."""
@@ -156,7 +158,7 @@ class InspectionRecord:
             "max_abs_ds_um": self.max_abs_ds_um,
             "tolerance_um": list(self.tolerance_um),
             "camtol_version": self.camtol_version,
-            "n_points": int(self.dr_um.size),
+            "n_points": self.n_points,
         }
 
 
@@ -266,6 +268,7 @@ def make_record(
         max_abs_ds_um=None if max_abs_ds_um is None else float(max_abs_ds_um),
         tolerance_um=(lo, hi),
         camtol_version=__version__,
+        n_points=int(curve.size),
         dr_um=curve,
     )
 
