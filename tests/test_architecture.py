@@ -35,6 +35,7 @@ CORE = [
     "contact",
     "manufacturing",
     "table_noise.py",
+    "inspection/lots.py",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 

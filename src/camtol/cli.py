@@ -374,7 +374,7 @@ def _register_subcommands() -> None:
     LAZY_COMMANDS["records"] = (
         "camtol.cli_records",
         "records",
-        "Stored inspection records: list them, show one, lot statistics (SQLite, PostgreSQL).",
+        "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
     )
     cli.lazy_commands.update(LAZY_COMMANDS)
 

@@ -24,7 +24,6 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
-
 from camtol.cli_records import check_store_options, store_fixture_records, store_options
 
 __all__ = ["conjugate"]

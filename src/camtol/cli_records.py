@@ -29,7 +29,9 @@ __all__ = ["records", "store_options", "store_fixture_records"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-_STORE_HELP = "Inspection store: a SQLite file (FILE.db), sqlite:///FILE.db or postgresql+psycopg://..."
+_STORE_HELP = (
+    "Inspection store: a SQLite file (FILE.db), sqlite:///FILE.db or postgresql+psycopg://..."
+)
 
 
 def _open_existing(location: str) -> InspectionStore:
@@ -37,7 +39,9 @@ def _open_existing(location: str) -> InspectionStore:
     from camtol.inspection.store import open_store
 
     if "://" not in location and not Path(location).is_file():
-        fail(f"--store={location!r}: no such file (records are created by --store on an inspection)")
+        fail(
+            f"--store={location!r}: no such file (records are created by --store on an inspection)"
+        )
     return open_store(location, create=False)
 
 
@@ -60,7 +64,7 @@ def _cam_filter(cam: str | None) -> str | None:
 
 @click.group()
 def records() -> None:
-    """Stored inspection records: list them, show one, lot statistics (SQLite, PostgreSQL).
+    """Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).
 
     Records are written by `camtol conjugate --store DB` (one per inspected cam). DB is a
     SQLite file, sqlite:///FILE.db or postgresql+psycopg://user@host:port/database.
@@ -106,9 +110,7 @@ def list_records(
 @click.argument("record_id", metavar="ID", type=int)
 @click.option("--store", "store", required=True, metavar="DB", help=_STORE_HELP)
 @click.option("--json", "as_json", is_flag=True, help="Print the record as JSON.")
-@click.option(
-    "--curves", metavar="FILE.csv", help="Write its deviation curve: theta_deg, dr_um."
-)
+@click.option("--curves", metavar="FILE.csv", help="Write its deviation curve: theta_deg, dr_um.")
 def show_record(record_id: int, store: str, as_json: bool, curves: str | None) -> None:
     """Show one inspection record: design identity, traceability, verdict, summary figures."""
 
@@ -272,9 +274,9 @@ def store_options(f: F) -> F:
 
 
 def _traceability(opts: dict[str, str | None]) -> Any:
-    from camtol.inspection.store import Traceability
-
     from datetime import timezone
+
+    from camtol.inspection.store import Traceability
 
     when = opts.get("store_inspected_at")
     at = datetime.now(timezone.utc)

@@ -14,8 +14,6 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
-
 PG_ENV = "CAMTOL_TEST_POSTGRES_URL"
 
 

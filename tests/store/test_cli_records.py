@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
+
 from camtol.cli import main
 from camtol.config import load_example
 from camtol.examples import example_text
@@ -31,9 +33,14 @@ def _inspect(url: str, serial: str, df: str, lot: str = "L1", *extra: str) -> in
 def test_conjugate_store_records_both_cams(
     store_url: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = _inspect(store_url, "1", "20 + 3*sin(theta)", "L1", "--inspected-at", "2026-11-23T08:00:00Z")
+    code = _inspect(
+        store_url, "1", "20 + 3*sin(theta)", "L1", "--inspected-at", "2026-11-23T08:00:00Z"
+    )
     assert code in (0, 1)
-    assert main(["conjugate", "-e", EX, "--df-mea", "20 + 3*sin(theta)", "--step", "1", "--json"]) == code
+    assert (
+        main(["conjugate", "-e", EX, "--df-mea", "20 + 3*sin(theta)", "--step", "1", "--json"])
+        == code
+    )
     ref = json.loads(capsys.readouterr().out)
     assert main(["records", "list", "--store", store_url, "--json"]) == 0
     recs = json.loads(capsys.readouterr().out)["records"]
@@ -99,7 +106,10 @@ def test_show_and_stats_against_the_library(
         (["records", "show", "99"], "record id 99: no such record"),
         (["records", "stats", "--design", EX], "records of cams A, B; give --cam"),
         (["records", "stats", "--design", "nope"], "--design='nope': no records match"),
-        (["records", "stats", "--design", EX, "--cam", "A", "--confidence", "2"], "--confidence=2.0"),
+        (
+            ["records", "stats", "--design", EX, "--cam", "A", "--confidence", "2"],
+            "--confidence=2.0",
+        ),
         (["records", "show", "1", "--curves", "x.txt"], "--curves='x.txt'"),
     ],
 )

@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+
+pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -101,7 +103,12 @@ def test_round_trip_store_read_gives_identical_records(
     tol: tuple[float, float],
 ) -> None:
     rec = _record(
-        dr, method=method, cam=cam, verdict=verdict, traceability=trace, max_abs_ds_um=ds,
+        dr,
+        method=method,
+        cam=cam,
+        verdict=verdict,
+        traceability=trace,
+        max_abs_ds_um=ds,
         tolerance_um=tol,
     )
     with open_store(store_url) as s:
@@ -284,7 +291,9 @@ def test_concurrent_sqlite_writers_do_not_corrupt(tmp_path: Path) -> None:
 
     env = dict(os.environ, PYTHONPATH=src)
     procs = [
-        subprocess.Popen([sys.executable, "-c", WRITER, url, str(tag)], env=env, stderr=subprocess.PIPE)
+        subprocess.Popen(
+            [sys.executable, "-c", WRITER, url, str(tag)], env=env, stderr=subprocess.PIPE
+        )
         for tag in (1, 2)
     ]
     for p in procs:

@@ -102,7 +102,7 @@ _DTYPE = np.dtype("<f4")
 
 
 def make_engine(url: str) -> Engine:
-    """An engine for ``url``; SQLite gets a busy timeout and BEGIN IMMEDIATE transactions."""
+    """Make an engine for ``url``; SQLite gets a busy timeout and BEGIN IMMEDIATE transactions."""
     if url.startswith("sqlite"):
         engine = create_engine(url, connect_args={"timeout": 30.0})
 
@@ -206,7 +206,7 @@ def select_records(
     cam: str | None = None,
     with_curves: bool = True,
 ) -> list[InspectionRecord]:
-    """Records matching the filters, oldest first."""
+    """Select the records matching the filters, oldest first."""
     query = select(inspections, curves.c.n_points, *([curves.c.data] if with_curves else []))
     query = query.join(
         curves, (curves.c.inspection_id == inspections.c.id) & (curves.c.name == "dr_um")
@@ -226,7 +226,7 @@ def select_records(
 
 
 def select_design_text(engine: Engine, design_hash: str) -> str | None:
-    """The stored TOML text of a design."""
+    """Return the stored TOML text of a design."""
     with engine.connect() as conn:
         value = conn.execute(
             select(designs.c.toml).where(designs.c.design_hash == design_hash)

@@ -20,8 +20,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
@@ -94,7 +96,7 @@ class LotStatistics:
     sequence: FloatArray
 
 
-def resample_periodic(values: FloatArray, n: int) -> FloatArray:
+def resample_periodic(values: npt.NDArray[np.floating[Any]], n: int) -> FloatArray:
     """Resample a periodic curve on a uniform grid of ``len(values)`` points onto ``n`` points.
 
     Linear interpolation with wrap-around at 360°; both grids start at 0°.
@@ -138,7 +140,7 @@ def _clopper_pearson(k: int, n: int, confidence: float) -> tuple[float, float]:
 
 
 def lot_statistics(
-    curves_um: Sequence[FloatArray],
+    curves_um: Sequence[npt.NDArray[np.floating[Any]]],
     tolerance_um: tuple[float, float],
     failed: Sequence[bool],
     *,
@@ -200,13 +202,17 @@ def lot_statistics(
     cp = _ratio(hi - lo, 6.0 * s_max)
     cpk_upper = _ratio(hi - float(part_max.mean()), 3.0 * s_max)
     cpk_lower = _ratio(float(part_min.mean()) - lo, 3.0 * s_min)
-    cpk = min(cpk_upper, cpk_lower) if not (math.isnan(cpk_upper) or math.isnan(cpk_lower)) else math.nan
+    cpk = (
+        min(cpk_upper, cpk_lower)
+        if not (math.isnan(cpk_upper) or math.isnan(cpk_lower))
+        else math.nan
+    )
 
     k = int(np.count_nonzero(np.asarray(failed, dtype=bool)))
     slope, stderr = _trend(seq, part_max)
     return LotStatistics(
         n_parts=n_parts,
-        theta_deg=np.arange(n) * (360.0 / n),
+        theta_deg=np.asarray(np.arange(n) * (360.0 / n), dtype=np.float64),
         mean_um=table.mean(axis=0),
         std_um=(table.std(axis=0, ddof=1) if n_parts > 1 else np.full(n, math.nan)),
         max_um=table.max(axis=0),

@@ -24,15 +24,21 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from camtol.design import CamDesign
+
+T = TypeVar("T")
+Float32Array = npt.NDArray[np.float32]
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -130,15 +136,15 @@ class InspectionRecord:
     tolerance_um: tuple[float, float]
     camtol_version: str
     n_points: int
-    dr_um: FloatArray = field(repr=False)
+    dr_um: Float32Array = field(repr=False)
 
     @property
     def theta_deg(self) -> FloatArray:
         """The curve's cam angles, 360° i / n. [deg]"""
-        return np.arange(self.n_points) * (360.0 / self.n_points)
+        return np.asarray(np.arange(self.n_points) * (360.0 / self.n_points), dtype=np.float64)
 
     def summary(self) -> dict[str, Any]:
-        """The record without its curve, as JSON-ready values (keys of docs/records.md)."""
+        """Return the record without its curve, as JSON-ready values (keys of docs/records.md)."""
         return {
             "id": self.id,
             "design_name": self.design_name,
@@ -163,7 +169,7 @@ class InspectionRecord:
 
 
 def design_identity(design: CamDesign, source_text: str | None = None) -> tuple[str, str]:
-    """Name and content hash of a design: ``(name, "sha256:<hex>")``.
+    r"""Name and content hash of a design: ``(name, "sha256:<hex>")``.
 
     Uses ``design.content_hash`` when the design provides one (issue 8); until then the
     sha256 of its TOML text with line endings normalised to ``\\n`` and trailing blanks
@@ -274,14 +280,14 @@ def make_record(
 
 
 def store_url(location: str) -> str:
-    """A database URL from ``--store``: a URL as given, else a SQLite file path."""
+    """Return a database URL from ``--store``: a URL as given, else a SQLite file path."""
     if "://" in location:
         return location
     return f"sqlite:///{Path(location).expanduser().resolve()}"
 
 
 def _safe(url: str) -> str:
-    """The URL without its password, for messages."""
+    """Return the URL without its password, for messages."""
     return re.sub(r"(://[^:/@]*):[^@]*@", r"\1:***@", url)
 
 
@@ -310,8 +316,7 @@ def open_store(location: str, *, create: bool = True) -> InspectionStore:
         import sqlalchemy  # noqa: F401
     except ImportError:  # pragma: no cover - depends on the environment
         raise RecordError(
-            "--store needs SQLAlchemy: pip install 'camtol[store]' (PostgreSQL:"
-            " 'camtol[postgres]')"
+            "--store needs SQLAlchemy: pip install 'camtol[store]' (PostgreSQL: 'camtol[postgres]')"
         ) from None
     return InspectionStore(store_url(location), create=create)
 
@@ -384,8 +389,10 @@ class InspectionStore:
             ) from None
 
     def get(self, record_id: int) -> InspectionRecord:
-        """The record with this id (RecordError when there is none)."""
-        rec = self._guard(lambda: self._sql.select_records(self._engine, record_id=record_id))
+        """Return the record with this id (RecordError when there is none)."""
+        rec: list[InspectionRecord] = self._guard(
+            lambda: self._sql.select_records(self._engine, record_id=record_id)
+        )
         if not rec:
             raise RecordError(f"record id {record_id}: no such record in {_safe(self.url)!r}")
         return rec[0]
@@ -398,7 +405,7 @@ class InspectionStore:
         cam: str | None = None,
         with_curves: bool = False,
     ) -> list[InspectionRecord]:
-        """Records matching every filter given, oldest first (by time, then id).
+        """Return the records matching every filter given, oldest first (by time, then id).
 
         Without ``with_curves`` the curves are left out (``dr_um`` empty) for speed.
         """
@@ -409,10 +416,13 @@ class InspectionStore:
         )
 
     def design_text(self, design_hash: str) -> str | None:
-        """The TOML text stored for a design hash, if any."""
-        return self._guard(lambda: self._sql.select_design_text(self._engine, design_hash))
+        """Return the TOML text stored for a design hash, if any."""
+        found: str | None = self._guard(
+            lambda: self._sql.select_design_text(self._engine, design_hash)
+        )
+        return found
 
-    def _guard(self, fn: Any) -> Any:
+    def _guard(self, fn: Callable[[], T]) -> T:
         try:
             return fn()
         except RecordError:
@@ -422,7 +432,7 @@ class InspectionStore:
 
 
 def _brief(exc: BaseException) -> str:
-    """The first line of an exception's message."""
+    """Return the first line of an exception's message."""
     orig = getattr(exc, "orig", None) or exc
     text = str(orig).strip().splitlines()
     return f"{type(orig).__name__}: {text[0] if text else ''}"
