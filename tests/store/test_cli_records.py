@@ -160,3 +160,39 @@ def test_newer_schema_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "schema version 99, newer than" in err
     assert _inspect(url, "2", "20") == 2  # an inspection refuses before analysing
+
+
+def test_every_key_column_and_flag_is_documented(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import click
+
+    from camtol.cli_conjugate import conjugate
+    from camtol.cli_records import records
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "records.md").read_text("utf-8")
+    url = str(tmp_path / "r.db")
+    assert _inspect(url, "1", "20") in (0, 1)
+    capsys.readouterr()
+    assert main(["records", "show", "1", "--store", url, "--json"]) == 0
+    keys = set(json.loads(capsys.readouterr().out))
+    assert main(["records", "stats", "--store", url, "--design", EX, "--cam", "B", "--json"]) == 0
+    keys |= set(json.loads(capsys.readouterr().out))
+    keys |= {"theta_deg", "dr_um", "mean_um", "std_um", "max_um", "min_um"}  # CSV columns
+    for name in ("schema_version", "designs", "inspections", "curves", "tolerance_lower_um"):
+        keys.add(name)
+    import re
+
+    spans = re.findall(r"`([^`\n]+)`", doc)  # code spans, one line each
+    words = set(re.findall(r"[\w-]+", " ".join(spans)))
+    missing = sorted(keys - words)
+    assert missing == [], f"not in docs/records.md: {missing}"
+    assert isinstance(records, click.Group)
+    flags = {
+        opt
+        for cmd in [*records.commands.values(), conjugate]
+        for p in cmd.params
+        for opt in p.opts
+        if opt.startswith("--") and (cmd is not conjugate or p.name.startswith("store_"))
+    }
+    assert sorted(f for f in flags if f"`{f}" not in doc and f"{f} " not in doc) == []
