@@ -47,6 +47,7 @@ __all__ = [
     "Method",
     "Traceability",
     "design_identity",
+    "make_record",
     "open_store",
     "record_inspection",
 ]
