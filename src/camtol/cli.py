@@ -376,6 +376,16 @@ def _register_subcommands() -> None:
         "records",
         "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
     )
+    LAZY_COMMANDS["inspect"] = (
+        "camtol.cli_inspect",
+        "inspect",
+        "Inspect a machined cam from CMM points: registration, deviations, follower error.",
+    )
+    LAZY_COMMANDS["simulate"] = (
+        "camtol.cli_simulate",
+        "simulate",
+        "Digital twins: simulated measurement files with their truth beside them.",
+    )
     cli.lazy_commands.update(LAZY_COMMANDS)
 
 

@@ -295,10 +295,15 @@ def _traceability(opts: dict[str, str | None]) -> Any:
     )
 
 
-def check_store_options(opts: dict[str, str | None]) -> InspectionStore | None:
-    """Open the store before any work (None without --store); traceability needs --store."""
+def check_store_options(opts: dict[str, str | None]) -> str | None:
+    """Check --store and the traceability options before any work; the store or None.
+
+    The store is opened (created on first use, its schema version checked) and closed
+    again, so that an unreachable or too new store stops the command before the analysis.
+    """
     given = [k for k, v in opts.items() if v is not None and k != "store_store"]
-    if opts.get("store_store") is None:
+    location = opts.get("store_store")
+    if location is None:
         if given:
             flag = "--" + given[0].removeprefix("store_").replace("_", "-")
             fail(f"{flag} describes the part for the store: give --store DB as well")
@@ -306,11 +311,12 @@ def check_store_options(opts: dict[str, str | None]) -> InspectionStore | None:
     _traceability(opts)  # validate the date before the analysis
     from camtol.inspection.store import open_store
 
-    return open_store(str(opts["store_store"]))
+    open_store(location).close()
+    return location
 
 
 def store_fixture_records(
-    store: InspectionStore,
+    location: str,
     opts: dict[str, str | None],
     design: Any,
     design_path: str | None,
@@ -350,4 +356,7 @@ def store_fixture_records(
             ("B", res.estimate.dr_b_est_um, spec.tolerance_b_um),
         )
     ]
-    return store.add_all(recs, design_text=text)
+    from camtol.inspection.store import open_store
+
+    with open_store(location) as store:
+        return store.add_all(recs, design_text=text)
