@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from camtol.exceptions import RecordError
-from camtol.inspection.lots import lot_statistics, resample_periodic
+from camtol.inspection.lots import deviation_on_grid, lot_statistics, resample_periodic
 
 
 def _lot(rng: np.random.Generator, n_parts: int = 12, n: int = 360) -> np.ndarray:
@@ -88,3 +88,14 @@ def test_curves_on_different_grids_are_resampled() -> None:
 def test_bad_input_is_named(args: tuple, kw: dict, match: str) -> None:  # type: ignore[type-arg]
     with pytest.raises(RecordError, match=match):
         lot_statistics(*args, **kw)
+
+
+def test_scattered_points_onto_the_grid(rng: np.random.Generator) -> None:
+    theta = rng.uniform(-180.0, 540.0, 3600)  # any order, any range
+    dr = 4.0 * np.cos(np.radians(theta)) + 1.0
+    got = deviation_on_grid(theta, dr, 720)
+    want = 4.0 * np.cos(np.radians(np.arange(720) * 0.5)) + 1.0
+    # linear interpolation over gaps of at most ~2° on a 4 µm cosine: error < 4·(2°)²/8 rad²
+    np.testing.assert_allclose(got, want, atol=4.0 * np.radians(2.0) ** 2 / 8)
+    with pytest.raises(RecordError, match="n_points=0"):
+        deviation_on_grid(theta, dr, 0)

@@ -28,7 +28,7 @@ import numpy.typing as npt
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
 
-__all__ = ["LotStatistics", "lot_statistics", "resample_periodic"]
+__all__ = ["LotStatistics", "deviation_on_grid", "lot_statistics", "resample_periodic"]
 
 
 @dataclass(frozen=True)
@@ -120,6 +120,37 @@ def resample_periodic(values: npt.NDArray[np.floating[Any]], n: int) -> FloatArr
     src = np.arange(m + 1) * (360.0 / m)
     dst = np.arange(n) * (360.0 / n)
     return np.asarray(np.interp(dst, src, np.append(v, v[0])))
+
+
+def deviation_on_grid(theta_deg: npt.ArrayLike, dr_um: npt.ArrayLike, n_points: int) -> FloatArray:
+    """Scattered deviations (e.g. CMM points) on the uniform grid θ_j = 360° j / n.
+
+    Periodic linear interpolation between the points sorted by angle, so that a scan can be
+    stored as a record and compared across parts.
+
+    Parameters
+    ----------
+    theta_deg : array_like
+        Polar angles of the points, any order, any range (taken modulo 360°). [deg]
+    dr_um : array_like
+        Deviations at those angles. [µm]
+    n_points : int
+        Points of the target grid (≥ 1).
+
+    Returns
+    -------
+    ndarray
+        Deviation at θ_j, shape (n_points,). [µm]
+    """
+    t = np.asarray(theta_deg, dtype=np.float64)
+    v = np.asarray(dr_um, dtype=np.float64)
+    if t.shape != v.shape or t.ndim != 1 or t.size < 2 or n_points < 1:
+        raise RecordError(
+            f"deviation_on_grid: need matching 1-D angles and deviations (≥ 2 points) and"
+            f" n_points ≥ 1; got {t.shape}, {v.shape}, n_points={n_points}"
+        )
+    grid = np.arange(n_points) * (360.0 / n_points)
+    return np.asarray(np.interp(grid, np.mod(t, 360.0), v, period=360.0))
 
 
 def _sample_std(x: FloatArray) -> float:
