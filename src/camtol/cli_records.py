@@ -256,7 +256,20 @@ def stats(
 
 
 def store_options(f: F) -> F:
-    """Add --store and the traceability options to an inspection command."""
+    """Add --store and the traceability options to an inspection command.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function; it receives the options as ``store_store``,
+        ``store_part``, ``store_serial``, ``store_lot``, ``store_inspector``,
+        ``store_instrument`` and ``store_inspected_at``.
+
+    Returns
+    -------
+    callable
+        ``f`` with the options.
+    """
     for name, text in reversed(
         [
             ("--store", _STORE_HELP + " Records each inspected cam there."),
@@ -324,7 +337,28 @@ def store_fixture_records(
     res: Any,
     spec: Any,
 ) -> list[int]:
-    """Record cams A and B of a fixture inspection in one transaction; their ids."""
+    """Record cams A and B of a fixture inspection in one transaction.
+
+    Parameters
+    ----------
+    location : str
+        The store (path or URL).
+    opts : dict
+        The options of :func:`store_options`.
+    design : CamDesign
+        The inspected design.
+    design_path, example : str or None
+        Where the design came from (its TOML text is hashed and stored).
+    res : FixtureInspection
+        The fixture analysis, with a measurement.
+    spec : FixtureSpec
+        The inspection spec (tolerances of cams A and B).
+
+    Returns
+    -------
+    list of int
+        The ids of the records of A and B.
+    """
     from camtol.inspection.store import design_identity, make_record
 
     if res.estimate is None:

@@ -231,7 +231,35 @@ def make_record(
     """Validate the parts of a record and compute its summary figures (not stored yet).
 
     The curve is rounded to float32 first, so the summary describes exactly what is stored.
-    Parameters as the attributes of :class:`InspectionRecord`.
+
+    Parameters
+    ----------
+    design_name, design_hash : str
+        The design's identity (see :func:`design_identity`).
+    method : {"conjugate-fixture", "cmm"}
+        How the cam was inspected.
+    cam : {"A", "B", ""}
+        Which cam of a pair ("" for a single cam).
+    dr_um : ndarray
+        Radial deviation Δr(θ) on θ_i = 360° i / n. [µm]
+    verdict : {"pass", "fail"}
+        The inspection's verdict.
+    tolerance_um : tuple of float
+        Radial tolerance (lower, upper) of the verdict. [µm]
+    traceability : Traceability
+        Part number, serial, lot, inspector, instrument, date-time.
+    max_abs_ds_um : float, optional
+        Largest |ΔS| of the measured follower motion, when known. [µm]
+
+    Returns
+    -------
+    InspectionRecord
+        With ``id`` None.
+
+    Raises
+    ------
+    RecordError
+        A field outside what is allowed (named in the message).
     """
     from camtol import __version__
 
@@ -365,6 +393,13 @@ class InspectionStore:
     def add(self, record: InspectionRecord, *, design_text: str | None = None) -> int:
         """Store a record (and the design text, once per hash) in one transaction.
 
+        Parameters
+        ----------
+        record : InspectionRecord
+            The record (from :func:`make_record`).
+        design_text : str, optional
+            The design's TOML text, kept once per design hash.
+
         Returns
         -------
         int
@@ -376,6 +411,13 @@ class InspectionStore:
         self, records: Sequence[InspectionRecord], *, design_text: str | None = None
     ) -> list[int]:
         """Store several records (e.g. cams A and B of a pair) in one transaction.
+
+        Parameters
+        ----------
+        records : sequence of InspectionRecord
+            The records (from :func:`make_record`).
+        design_text : str, optional
+            The designs' TOML text, kept once per design hash.
 
         Returns
         -------
@@ -390,7 +432,22 @@ class InspectionStore:
             ) from None
 
     def get(self, record_id: int) -> InspectionRecord:
-        """Return the record with this id (RecordError when there is none)."""
+        """Return the record with this id, with its curve.
+
+        Parameters
+        ----------
+        record_id : int
+            The record's id.
+
+        Returns
+        -------
+        InspectionRecord
+
+        Raises
+        ------
+        RecordError
+            No record has this id.
+        """
         rec: list[InspectionRecord] = self._guard(
             lambda: self._sql.select_records(self._engine, record_id=record_id)
         )
@@ -408,7 +465,20 @@ class InspectionStore:
     ) -> list[InspectionRecord]:
         """Return the records matching every filter given, oldest first (by time, then id).
 
-        Without ``with_curves`` the curves are left out (``dr_um`` empty) for speed.
+        Parameters
+        ----------
+        design : str, optional
+            Design name.
+        lot : str, optional
+            Lot.
+        cam : str, optional
+            ``"A"``, ``"B"`` or ``""`` (a single cam).
+        with_curves : bool, optional
+            Read the curves too; without, ``dr_um`` is empty (faster for listing).
+
+        Returns
+        -------
+        list of InspectionRecord
         """
         return self._guard(
             lambda: self._sql.select_records(
@@ -417,7 +487,18 @@ class InspectionStore:
         )
 
     def design_text(self, design_hash: str) -> str | None:
-        """Return the TOML text stored for a design hash, if any."""
+        """Return the TOML text stored for a design hash, if any.
+
+        Parameters
+        ----------
+        design_hash : str
+            ``sha256:<hex>``.
+
+        Returns
+        -------
+        str or None
+            The text, None when the design or its text is not stored.
+        """
         found: str | None = self._guard(
             lambda: self._sql.select_design_text(self._engine, design_hash)
         )
