@@ -38,7 +38,8 @@ def _open_existing(location: str) -> InspectionStore:
     """Open a store for reading: a SQLite file must exist."""
     from camtol.inspection.store import open_store
 
-    if "://" not in location and not Path(location).is_file():
+    path = location.removeprefix("sqlite:///") if location.startswith("sqlite:///") else location
+    if "://" not in path and path != ":memory:" and not Path(path).is_file():
         fail(
             f"--store={location!r}: no such file (records are created by --store on an inspection)"
         )
