@@ -247,21 +247,25 @@ def test_bad_record_fields_are_named(kw: dict[str, Any], match: str) -> None:
         _record(**args)
 
 
-def test_design_identity_is_stable_and_switchable() -> None:
+def test_design_identity_is_the_designs_content_hash() -> None:
     design = load_example(DESIGN)
-    text = example_text(DESIGN)
-    name, h = design_identity(design, text)
-    assert name == DESIGN and h.startswith("sha256:") and len(h) == 71
-    assert design_identity(design, text.replace("\n", "\r\n") + "\n\n")[1] == h
-    assert design_identity(design, text.replace("22", "23"))[1] != h
+    name, h = design_identity(design, None)
+    assert (name, h) == (DESIGN, "sha256:" + design.content_hash)
+    # the file's spelling does not matter: the hash is of the design's content
+    assert design_identity(design, example_text(DESIGN) + "# a comment\n") == (name, h)
 
-    class Hashed:
+
+def test_design_identity_falls_back_to_the_toml_text() -> None:
+    class Plain:  # a design object without content_hash
         name = "x"
-        content_hash = "cd" * 32
 
-    assert design_identity(Hashed(), None) == ("x", "sha256:" + "cd" * 32)  # type: ignore[arg-type]
+    text = example_text(DESIGN)
+    name, h = design_identity(Plain(), text)  # type: ignore[arg-type]
+    assert name == "x" and h.startswith("sha256:") and len(h) == 71
+    assert design_identity(Plain(), text.replace("\n", "\r\n") + "\n\n")[1] == h  # type: ignore[arg-type]
+    assert design_identity(Plain(), text.replace("22", "23"))[1] != h  # type: ignore[arg-type]
     with pytest.raises(RecordError, match="TOML text is needed"):
-        design_identity(design, None)
+        design_identity(Plain(), None)  # type: ignore[arg-type]
 
 
 WRITER = textwrap.dedent(

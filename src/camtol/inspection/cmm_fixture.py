@@ -35,13 +35,13 @@ from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixtur
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
-from camtol.inspection import (
-    ErrorFunction,
+from camtol.inspection.conjugate import (
     FixtureErrors,
     conjugate_factors,
     conjugate_variation,
     inverse_estimate,
 )
+from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
 __all__ = ["CmmFixtureComparison", "compare_cmm_fixture", "rms"]
@@ -157,7 +157,7 @@ def compare_cmm_fixture(
         )
     n = check_step(step_deg, name="--step", min_points=4)
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    fac = conjugate_factors(theta, design)
+    fac = conjugate_factors(design, theta)
     dr_a = normal_a(theta).v / np.cos(fac.shift_a_rad) * 1e3
     dr_b = normal_b(theta).v / np.cos(fac.shift_b_rad) * 1e3
     twin = simulate_fixture(
