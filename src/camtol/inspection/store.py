@@ -172,9 +172,10 @@ class InspectionRecord:
 def design_identity(design: CamDesign, source_text: str | None = None) -> tuple[str, str]:
     r"""Name and content hash of a design: ``(name, "sha256:<hex>")``.
 
-    Uses ``design.content_hash`` when the design provides one (issue 8); until then the
-    sha256 of its TOML text with line endings normalised to ``\\n`` and trailing blanks
-    removed. This is the one place to switch when the canonical hash lands.
+    Uses ``design.content_hash`` (issue 8: the SHA-256 of the design's canonical content);
+    for a design object without it, the SHA-256 of its TOML text with line endings
+    normalised to ``\\n`` and trailing blanks removed. The one place that defines a
+    record's design identity.
 
     Parameters
     ----------
