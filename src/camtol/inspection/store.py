@@ -174,7 +174,7 @@ def design_identity(design: CamDesign, source_text: str | None = None) -> tuple[
 
     Uses ``design.content_hash`` (issue 8: the SHA-256 of the design's canonical content);
     for a design object without it, the SHA-256 of its TOML text with line endings
-    normalised to ``\\n`` and trailing blanks removed. The one place that defines a
+    normalised to ``\n`` and trailing blanks removed. The one place that defines a
     record's design identity.
 
     Parameters
