@@ -24,6 +24,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_records import check_store_options, store_fixture_records, store_options
 
 __all__ = ["conjugate"]
 
@@ -111,6 +112,7 @@ __all__ = ["conjugate"]
     help="Registration of the CMM scans (as `camtol inspect --datum`).",
 )
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
+@store_options
 def conjugate(
     design: str | None,
     example: str | None,
@@ -129,6 +131,7 @@ def conjugate(
     cmm_stylus_mm: float,
     cmm_datum: str,
     quiet: bool,
+    **store_opts: str | None,
 ) -> None:
     """Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.
 
@@ -143,6 +146,9 @@ def conjugate(
     revolutions) are reported as upper and lower worst-case estimates. A revolution far
     longer or shorter than the median (a missed or spurious index mark) is an error, or
     with --drop-bad-revolutions excluded and reported.
+
+    With --store DB each inspected cam (A and B) is recorded in an inspection store with
+    the traceability options (see `camtol records`).
     """
 
     def body() -> int:
@@ -167,6 +173,7 @@ def conjugate(
         from camtol.mechanisms.conjugate import ConjugatePair
         from camtol.report import conjugate as rep
 
+        store = check_store_options(store_opts)
         d = load_input(design, example)
         if not isinstance(d.mechanism, ConjugatePair):
             fail(
@@ -226,6 +233,9 @@ def conjugate(
             from camtol.inspection.record import record_estimates
 
             estimates = record_estimates(d, spec, processed, res.theta_rad)
+        stored = []
+        if store is not None:
+            stored = store_fixture_records(store, store_opts, d, design, example, res, spec)
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
@@ -257,6 +267,8 @@ def conjugate(
 
                 for line in cmm_comparison_lines(comparison.summary()):
                     click.echo(line)
+        if stored and not quiet:
+            click.echo(f"recorded cams A, B as ids {stored[0]}, {stored[1]}", err=as_json)
         return EXIT_FAIL if res.passed is False else EXIT_OK
 
     raise _Exit(run_guarded(body))
