@@ -238,8 +238,11 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
             " of steps between 1 and 3,600,000 (e.g. 1, 0.5, 0.1, 0.01)"
         )
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    # Check the geometry first so an invalid design fails before anything else.
-    kinematics(design, theta, left_limit=left, check=True)
+    # Check the geometry first (grid-independent, every cam) so an invalid design fails
+    # before anything else.
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
     rmax = max_radius_mm(design)
     tolerances = design.resolve_tolerances(rmax)
     kin, err, curves = _evaluate(design, tolerances, theta, left, check=False)  # checked above

@@ -393,7 +393,9 @@ def verify(design: CamDesign, *, step_deg: float = 0.1, polyline: bool = True) -
     from camtol.analysis import max_radius_mm
 
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kinematics(design, theta, left_limit=left, check=True)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
     motion = design.program.evaluate(theta, left_limit=left)
     res = follow(theta, _nominal_shape(design), design.mechanism, left_limit=left)
     tolerances = design.resolve_tolerances(max_radius_mm(design))
@@ -506,7 +508,9 @@ def verify_conjugate(
     pair = design.mechanism
     assert isinstance(pair, ConjugatePair)
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    conjugate_kinematics(design, theta, left_limit=left, check=True)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
     shape_a = AnalyticShape(pair.cam_a, design.program)
     shape_b = AnalyticShape(pair.cam_b, design.program)
     xi0 = pair.initial_angle_rad

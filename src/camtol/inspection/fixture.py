@@ -464,7 +464,10 @@ def conjugate_factors(theta_rad: ArrayLike, design: CamDesign) -> ConjugateFacto
     """
     pair = _pair(design)
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    k = conjugate_kinematics(design, theta)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
+    k = conjugate_kinematics(design, theta, check=False)
     return ConjugateFactors(
         theta_rad=theta,
         arm_a_mm=pair.arm_a_mm,

@@ -254,13 +254,9 @@ def _curve_specs(design: CamDesign, cutter_radius_mm: float | None) -> list[_Cur
 
 def _check_design(design: CamDesign) -> None:
     """Raise if the design cannot be made (undercut, V ≥ 1, ...), with the cam angle."""
-    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
-    if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import conjugate_kinematics
+    from camtol.validity import check_design_geometry
 
-        conjugate_kinematics(design, theta, left_limit=left, check=True)
-    else:
-        kinematics(design, theta, left_limit=left, check=True)
+    check_design_geometry(design)
 
 
 # ---------------------------------------------------------------------------------------
