@@ -8,7 +8,6 @@ bad input.
 from __future__ import annotations
 
 import dataclasses
-import json
 from pathlib import Path
 
 import click
@@ -17,15 +16,23 @@ from camtol.cli import (
     EXIT_FAIL,
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
+    guard_paths,
     load_input,
     run_guarded,
 )
 
 __all__ = ["conjugate"]
+
+
+def _file_arg(value: str | None) -> str | None:
+    """Return the path of a VALUE|FILE.csv|FORMULA option naming a file, else None."""
+    if value is None or not value.strip().lower().endswith(".csv"):
+        return None
+    return value.strip()
 
 
 @click.command()
@@ -102,6 +109,16 @@ def conjugate(
                 f"--record={record_path!r} and --df-mea={df_mea!r} are mutually exclusive;"
                 " give the measured Δf one way"
             )
+        guard_paths(
+            {
+                "DESIGN": design,
+                "--record": record_path,
+                "--df-mea": _file_arg(df_mea),
+                "--master-a": _file_arg(master_a),
+                "--master-b": _file_arg(master_b),
+            },
+            {"--curves": curves, "--plot": plot},
+        )
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         from camtol.inspection.fixture import (
@@ -159,21 +176,21 @@ def conjugate(
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
             from camtol.report.files import atomic_output
+            from camtol.report.finite import require_finite_columns
             from camtol.report.plots import fixture_figure
 
+            require_finite_columns(
+                rep.fixture_curves_columns(res, record=estimates),
+                optional=rep.OPTIONAL_FIXTURE_COLUMNS,
+                where=plot,
+            )
             fig = fixture_figure(
                 res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
             )
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if as_json:
-            click.echo(
-                json.dumps(
-                    rep.fixture_json(res, spec, d.name, record=estimates),
-                    indent=2,
-                    default=_json_default,
-                )
-            )
+            echo_json(rep.fixture_json(res, spec, d.name, record=estimates))
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
         return EXIT_FAIL if res.passed is False else EXIT_OK

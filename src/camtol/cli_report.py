@@ -6,7 +6,6 @@ bad input or a design that cannot be made; nothing is written unless everything 
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import click
@@ -14,10 +13,11 @@ import click
 from camtol.cli import (
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
+    guard_paths,
     load_input,
     run_guarded,
 )
@@ -73,6 +73,7 @@ def profile(
     def body() -> int:
         from camtol.report.export import EXPORT_SUFFIXES, write_profile
 
+        guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", list(EXPORT_SUFFIXES))
         if not (tolerance_um > 0):
             fail(f"--tolerance={tolerance_um:g} is not allowed; give a positive value in µm")
@@ -102,7 +103,7 @@ def profile(
                     for c in pts.curves
                 ],
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
         elif not quiet:
             for c in pts.curves:
                 click.echo(
@@ -145,6 +146,7 @@ def report(
         from camtol.analysis import analyse
         from camtol.report.html import write_report
 
+        guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
         base_dir = Path(design).parent if design is not None else None
@@ -157,7 +159,7 @@ def report(
                 "max_worst_case": {"value": worst.value, "unit": a.error_unit},
                 "accuracy": a.accuracy.describe(),
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
         elif not quiet:
             click.echo(f"wrote {output} ({a.design.name}: {a.accuracy.describe()})")
         return EXIT_OK

@@ -42,6 +42,7 @@ Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillat
 from __future__ import annotations
 
 import csv
+import io
 import math
 import sys
 from collections.abc import Mapping
@@ -326,13 +327,15 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
 
 
 def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndarray[Any, Any]]:
-    try:
-        with path.open(newline="") as fh:
-            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
-    except OSError as exc:
-        raise ConfigError(
-            f"motion.table_file={str(path)!r} cannot be read: {exc.strerror}"
-        ) from None
+    from camtol.textfile import read_text
+
+    text = read_text(
+        path,
+        what="motion.table_file",
+        error=ConfigError,
+        label=f"motion.table_file={str(path)!r}",
+    )
+    rows = [r for r in csv.reader(io.StringIO(text)) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise ConfigError(f"motion.table_file={str(path)!r} is empty")
     header = [h.strip() for h in rows[0]]
@@ -461,10 +464,9 @@ def load_design(path: str | Path) -> CamDesign:
         The file is missing, not TOML, or invalid.
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"design file {str(p)!r} cannot be read: {exc.strerror}") from None
+    from camtol.textfile import read_text
+
+    text = read_text(p, what="design file", error=ConfigError, max_bytes=16 * 2**20)
     return design_from_mapping(_parse_toml(text, f"design file {str(p)!r}"), base_dir=p.parent)
 
 

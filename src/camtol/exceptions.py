@@ -12,6 +12,7 @@ __all__ = [
     "DesignError",
     "GeometryError",
     "InputFileError",
+    "OutputError",
     "PressureAngleWarning",
     "UndercutError",
 ]
@@ -31,6 +32,10 @@ class ConfigError(DesignError):
 
 class InputFileError(CamtolError, ValueError):
     """A data file (CSV table, measurement) cannot be read or is malformed."""
+
+
+class OutputError(CamtolError, ValueError):
+    """An output cannot be written: a bad destination, an OS error, or a non-finite value."""
 
 
 class GeometryError(DesignError):

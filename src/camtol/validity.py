@@ -52,7 +52,7 @@ TWO_PI = 2.0 * math.pi
 
 
 def single_cam_designs(design: CamDesign) -> tuple[tuple[str, CamDesign], ...]:
-    """The single-contact designs to check: ``(("", design),)`` or cams A and B.
+    """Split a design into the single-contact designs to check (cams A and B of a pair).
 
     Parameters
     ----------
@@ -240,4 +240,3 @@ def check_design_geometry(design: CamDesign) -> None:
             if not label:
                 raise
             raise type(exc)(f"cam {label}: {exc}") from None
-

@@ -35,7 +35,7 @@ from camtol.contact.shapes import AnalyticShape, PolygonShape
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.errors import error_analysis
 from camtol.jet import FloatArray, Jet
-from camtol.kinematics import analysis_grid, kinematics
+from camtol.kinematics import analysis_grid
 from camtol.mechanisms.base import Mechanism
 
 if TYPE_CHECKING:
@@ -503,7 +503,7 @@ def verify_conjugate(
     from camtol.analysis import max_radius_mm
     from camtol.contact.fixture import Fixture, simulate_fixture
     from camtol.inspection.fixture import conjugate_factors, conjugate_variation
-    from camtol.mechanisms.conjugate import ConjugatePair, cam_design, conjugate_kinematics
+    from camtol.mechanisms.conjugate import ConjugatePair, cam_design
 
     pair = design.mechanism
     assert isinstance(pair, ConjugatePair)

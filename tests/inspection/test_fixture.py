@@ -97,7 +97,7 @@ def test_csv_table(tmp_path: Path) -> None:
     bad.write_text("theta_deg,um\n0,1\n10,x\n")
     with pytest.raises(InputFileError, match="line 3"):
         ErrorFunction.from_csv(bad)
-    with pytest.raises(InputFileError, match="cannot read"):
+    with pytest.raises(InputFileError, match="cannot be read"):
         ErrorFunction.from_csv(tmp_path / "missing.csv")
 
 

@@ -245,10 +245,9 @@ class ErrorFunction:
             If the file cannot be read or a row is not two numbers (names file and line).
         """
         p = Path(path)
-        try:
-            lines = p.read_text(encoding="utf-8").splitlines()
-        except OSError as exc:
-            raise InputFileError(f"{p}: cannot read the error table ({exc.strerror})") from None
+        from camtol.textfile import read_text
+
+        lines = read_text(p, what="error table").splitlines()
         rows: list[tuple[float, float]] = []
         for lineno, row in enumerate(csv.reader(lines), start=1):
             if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):

@@ -164,14 +164,9 @@ def read_indicator_csv(path: str | Path) -> IndicatorRecord:
         complete revolution is needed).
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputFileError(
-            f"{p}: cannot read the indicator record ({exc.strerror or exc})"
-        ) from None
-    except UnicodeDecodeError:
-        raise InputFileError(f"{p}: the indicator record is not UTF-8 text (CSV)") from None
+    from camtol.textfile import read_text
+
+    text = read_text(p, what="indicator record")
     header: list[str] | None = None
     cells: list[list[str]] = []
     lines: list[int] = []

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from camtol.design import CamDesign
 from camtol.exceptions import CamtolError, GeometryError, UndercutError
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import analysis_grid, contact_jets, kinematics
+from camtol.kinematics import analysis_grid, contact_jets
 from camtol.report.files import atomic_write
 
 __all__ = [
@@ -587,6 +587,12 @@ def write_profile(
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
     points = profile_points(design, tolerance_mm=tolerance_mm, cutter_radius_mm=cutter_radius_mm)
+    from camtol.report.finite import require_finite
+
+    for c in points.curves:
+        deg = np.degrees(c.theta_rad)
+        require_finite(f"{c.layer} x_mm", c.x_mm, theta_deg=deg, where=str(p))
+        require_finite(f"{c.layer} y_mm", c.y_mm, theta_deg=deg, where=str(p))
     if fmt == "csv":
         data = _csv_text(design, points).encode("utf-8")
     elif fmt == "dxf":

@@ -380,5 +380,9 @@ def write_report(
         if isinstance(design_or_analysis, Analysis)
         else analyse(design_or_analysis)
     )
+    from camtol.report.finite import require_finite_columns
+    from camtol.report.tables import curves_columns
+
+    require_finite_columns(curves_columns(a), where=str(p))
     atomic_write(p, report_html(a, base_dir=base_dir))
     return a
