@@ -248,6 +248,7 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     kin, err, curves = _evaluate(design, tolerances, theta, left, check=False)  # checked above
     quantities = _quantities(design, tolerances)
     keys = [q.key for q in quantities]
+    _require_finite(quantities, curves, theta)
 
     def evaluate(t: FloatArray) -> dict[str, FloatArray]:
         return {
@@ -275,6 +276,23 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         accuracy,
         _notes(design, kin),
     )
+
+
+def _require_finite(
+    quantities: tuple[Quantity, ...], curves: dict[str, FloatArray], theta_rad: FloatArray
+) -> None:
+    """Raise a DesignError naming the first quantity that is not finite, and where."""
+    from camtol.exceptions import DesignError
+
+    for q in quantities:
+        ok = np.isfinite(curves[q.key])
+        if not np.all(ok):
+            i = int(np.argmax(~ok))
+            raise DesignError(
+                f"{q.label} is {float(curves[q.key][i])!r} at θ={math.degrees(theta_rad[i]):.6g}°:"
+                " the computation overflows; a dimension or tolerance of the design is far"
+                " outside a plausible range"
+            )
 
 
 def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:

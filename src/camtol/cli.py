@@ -178,6 +178,7 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
     """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        code: int | None = EXIT_USAGE  # until fn returns (fail() leaves by an exception)
         try:
             code = fn()
         except CamtolError as exc:
@@ -198,6 +199,8 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
             click.echo(f"camtol: error: {_numerical_failure(exc)}", err=True)
             code = EXIT_USAGE
         finally:
+            if code == EXIT_USAGE:  # the error says it: numpy's overflow chatter is noise
+                caught = [w for w in caught if not issubclass(w.category, RuntimeWarning)]
             for message in dict.fromkeys(str(w.message) for w in caught):  # once each
                 click.echo(f"camtol: warning: {message}", err=True)
     return EXIT_OK if code is None else code

@@ -58,6 +58,9 @@ _MAX_STEP_DEG = 1.0
 _SAFETY = 0.8
 #: Bisection passes allowed for the verification.
 _MAX_PASSES = 40
+#: Most vertices of one exported curve; more means the tolerance is too fine for the cam's
+#: size (bounds the work and the file). [vertices]
+MAX_VERTICES = 2_000_000
 
 ExportFormat = Literal["csv", "dxf", "svg"]
 
@@ -298,6 +301,13 @@ def _plan(fn: CurveFunction, boundaries_rad: FloatArray, tol: float) -> FloatArr
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (d[1:] + d[:-1]) * np.diff(t))])
         n = max(1, math.ceil(cum[-1]))
         out.append(np.interp(np.linspace(0.0, cum[-1], n + 1)[:-1], cum, t))
+    total = sum(v.size for v in out)
+    if total > MAX_VERTICES:
+        raise ExportError(
+            f"the chordal tolerance {tol * 1e3:g} µm needs about {total:,} vertices per curve"
+            f" for a cam of this size; at most {MAX_VERTICES:,} are written: give a larger"
+            " --tolerance"
+        )
     verts = np.unique(np.concatenate(out))
     return np.asarray(verts[verts < 2.0 * math.pi - 1e-12])
 
@@ -337,6 +347,11 @@ def _sample_curve(spec: _CurveSpec, boundaries_rad: FloatArray, tol: float) -> P
             return ProfileCurve(spec.layer, spec.description, theta, s.x, s.y, float(np.max(dev)))
         t1 = np.append(theta[1:], 2.0 * math.pi)
         theta = np.sort(np.concatenate([theta, 0.5 * (theta[bad] + t1[bad])]))
+        if theta.size > MAX_VERTICES:
+            raise ExportError(
+                f"the {spec.description} needs more than {MAX_VERTICES:,} vertices at the"
+                f" chordal tolerance {tol * 1e3:g} µm; give a larger --tolerance"
+            )
     raise GeometryError(  # pragma: no cover - would need a non-smooth curve
         f"the {spec.description} could not be sampled within {tol * 1e3:g} µm"
         f" (worst chord at θ={math.degrees(theta[int(np.argmax(dev))]):.3f}°)"
