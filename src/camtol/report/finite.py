@@ -49,7 +49,7 @@ def require_finite(
     if bool(np.all(ok)):
         return
     i = int(np.argmax(~ok.ravel()))
-    bad = v.ravel()[i]
+    bad = v.ravel()[i].item()
     at = ""
     if theta_deg is not None:
         t = np.broadcast_to(np.asarray(theta_deg, dtype=float), v.shape).ravel()
