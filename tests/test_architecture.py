@@ -21,11 +21,15 @@ CORE = [
     "motion.py",
     "mechanisms",
     "design.py",
+    "sources.py",
     "kinematics.py",
     "errors.py",
     "extremes.py",
     "iso286.py",
     "analysis.py",
+    "sizing.py",
+    "tables.py",
+    "grid.py",
     "contact",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")

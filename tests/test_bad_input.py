@@ -233,7 +233,8 @@ def test_output_equal_to_a_lift_table_named_in_the_design_is_refused(
     lift = 10 * (1 - np.cos(np.radians(theta))) / 2
     table = tmp_path / "lift.csv"
     table.write_text(
-        "theta_deg,lift_mm\n" + "".join(f"{t:g},{s:.9f}\n" for t, s in zip(theta, lift))
+        "theta_deg,lift_mm\n"
+        + "".join(f"{t:g},{s:.9f}\n" for t, s in zip(theta, lift, strict=True))
     )
     text = example_text("roller-translating")
     text = re.sub(r"\[motion\].*?\]\n", '[motion]\ntable_file = "lift.csv"\n', text, flags=re.S)
@@ -289,11 +290,18 @@ def test_non_utf8_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> 
     assert_one_error(code, err, "bad.toml", "not UTF-8", "line 1, column 10")
 
 
-def test_utf16_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_utf16_and_utf32_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    """UTF-16 with a BOM is read as the table reader reads it; UTF-32 is one clear line."""
     p = tmp_path / "u16.toml"
     p.write_bytes(example_text("cw06-translating").encode("utf-16"))
+    code, _, err = run(capsys, "analyze", str(p), "-q")
+    assert code == 0, err
+    p.write_bytes(example_text("cw06-translating").encode("utf-16")[:-1])  # odd length
     code, _, err = run(capsys, "analyze", str(p))
-    assert_one_error(code, err, "u16.toml", "UTF-16")
+    assert_one_error(code, err, "u16.toml", "not valid UTF-16")
+    p.write_bytes(example_text("cw06-translating").encode("utf-32"))
+    code, _, err = run(capsys, "analyze", str(p))
+    assert_one_error(code, err, "u16.toml", "UTF-32")
 
 
 def test_utf8_bom_design_is_accepted(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -314,7 +322,7 @@ def test_df_mea_csv_encodings(capsys: pytest.CaptureFixture[str], tmp_path: Path
 
 
 def test_lift_table_encoding(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    (tmp_path / "lift.csv").write_bytes("theta_deg,lift_mm\n0,0\n".encode("utf-16"))
+    (tmp_path / "lift.csv").write_bytes(b"theta_deg,lift_mm\n0,0\n5,\xff\n")
     text = re.sub(
         r"\[motion\].*?\]\n",
         '[motion]\ntable_file = "lift.csv"\n',
@@ -323,7 +331,7 @@ def test_lift_table_encoding(capsys: pytest.CaptureFixture[str], tmp_path: Path)
     )
     design = write(tmp_path, "d.toml", text)
     code, _, err = run(capsys, "analyze", str(design))
-    assert_one_error(code, err, "motion.table_file", "UTF-16")
+    assert_one_error(code, err, "motion.table_file", "not UTF-8")
 
 
 def test_record_encoding(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

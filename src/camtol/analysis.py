@@ -18,6 +18,7 @@ from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.errors import ErrorAnalysis, error_analysis
 from camtol.extremes import Extreme, find_extremes
+from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
@@ -229,14 +230,7 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     GeometryError, UndercutError
         The design cannot produce its motion.
     """
-    from camtol.exceptions import DesignError
-
-    n = 360.0 / step_deg if step_deg > 0 else math.inf
-    if not (math.isfinite(n) and abs(n - round(n)) < 1e-6 and 1 <= round(n) <= 3_600_000):
-        raise DesignError(
-            f"step_deg={step_deg:g} is not allowed; it must divide 360° into a whole number"
-            " of steps between 1 and 3,600,000 (e.g. 1, 0.5, 0.1, 0.01)"
-        )
+    check_step(step_deg, name="step_deg")
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     # Check the geometry first (grid-independent, every cam) so an invalid design fails
     # before anything else.

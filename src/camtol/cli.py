@@ -26,6 +26,7 @@ __all__ = [
     "cli",
     "echo_json",
     "guard_paths",
+    "analyse_with_hint",
     "load_input",
     "run_guarded",
     "EXIT_OK",
@@ -235,6 +236,35 @@ def _numerical_failure(exc: BaseException) -> str:
     )
 
 
+def analyse_with_hint(design: Any, *, step_deg: float) -> Any:
+    """Analyse a design; an undercut or pressure-angle failure says which base radius works.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    step_deg : float
+        Grid step. [deg]
+
+    Returns
+    -------
+    Analysis
+        As :func:`camtol.analysis.analyse`.
+    """
+    from camtol.analysis import analyse
+    from camtol.exceptions import GeometryError
+
+    try:
+        return analyse(design, step_deg=step_deg)
+    except GeometryError as exc:
+        from camtol.cli_size import sizing_hint
+
+        hint = sizing_hint(design)
+        if hint is None:
+            raise
+        raise type(exc)(f"{exc}; {hint}") from None
+
+
 def design_options(f: F) -> F:
     """Add the DESIGN argument and --example option."""
     f = click.option(
@@ -296,10 +326,9 @@ def analyze(
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         if plot_angle_deg is not None and not math.isfinite(plot_angle_deg):
             fail(f"--plot-angle={plot_angle_deg!r} must be a finite number of degrees")
-        from camtol.analysis import analyse
         from camtol.report import tables
 
-        a = analyse(load_input(design, example), step_deg=step_deg)
+        a = analyse_with_hint(load_input(design, example), step_deg=step_deg)
         if curves:
             tables.write_curves_csv(a, curves)
         if plot:
@@ -367,6 +396,9 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_size import size
+
+    cli.add_command(size)
 
 
 _register_subcommands()

@@ -6,8 +6,6 @@ passes, 1 when one fails, 2 on bad input.
 
 from __future__ import annotations
 
-import math
-
 import click
 
 from camtol.cli import (
@@ -16,7 +14,6 @@ from camtol.cli import (
     _Exit,
     design_options,
     echo_json,
-    fail,
     load_input,
     run_guarded,
 )
@@ -110,14 +107,10 @@ def verify(
     """
 
     def body() -> int:
+        from camtol.grid import check_step
         from camtol.verify import verify as run
 
-        n = 360.0 / step_deg if step_deg > 0 else math.inf
-        if not (math.isfinite(n) and abs(n - round(n)) < 1e-6 and 4 <= round(n) <= 360_000):
-            fail(
-                f"--step={step_deg:g} is not allowed; it must divide 360° into a whole number"
-                " of steps between 4 and 360,000 (e.g. 1, 0.5, 0.1)"
-            )
+        check_step(step_deg, name="--step", min_points=4, max_points=360_000)
         result = run(load_input(design, example), step_deg=step_deg, polyline=not no_polyline)
         if as_json:
             echo_json(result.to_dict())

@@ -41,8 +41,6 @@ Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillat
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import sys
 from collections.abc import Mapping
@@ -54,7 +52,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from camtol.design import CamDesign, ToleranceSpec
-from camtol.exceptions import ConfigError, DesignError
+from camtol.exceptions import ConfigError, DesignError, InputFileError
 from camtol.mechanisms import FlatOscillating, FlatTranslating, Mechanism
 from camtol.motion import (
     MOTION_LAWS,
@@ -64,6 +62,8 @@ from camtol.motion import (
     SegmentProgram,
     table_resolution,
 )
+from camtol.sources import DESIGN_SOURCES
+from camtol.tables import read_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -327,40 +327,23 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
 
 
 def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndarray[Any, Any]]:
-    from camtol.textfile import read_text
-
-    text = read_text(
-        path,
-        what="motion.table_file",
-        error=ConfigError,
-        label=f"motion.table_file={str(path)!r}",
-    )
-    rows = [r for r in csv.reader(io.StringIO(text)) if r and not r[0].lstrip().startswith("#")]
-    if not rows:
-        raise ConfigError(f"motion.table_file={str(path)!r} is empty")
-    header = [h.strip() for h in rows[0]]
     col = f"lift_{unit}"
-    if "theta_deg" not in header or col not in header:
-        raise ConfigError(
-            f"motion.table_file={str(path)!r} needs the columns theta_deg and {col}; found"
-            f" {', '.join(header)}"
-        )
-    it, il = header.index("theta_deg"), header.index(col)
     try:
-        data = np.array([[float(r[it]), float(r[il])] for r in rows[1:]])
-    except (ValueError, IndexError):
-        raise ConfigError(f"motion.table_file={str(path)!r} has a non-numeric row") from None
-    if data.size == 0:
-        raise ConfigError(f"motion.table_file={str(path)!r} has no data rows")
-    if abs(data[-1, 0] - 360.0) < 1e-9:  # a closing 360° row repeats 0°
-        data = data[:-1]
-    return data[:, 0], data[:, 1]
+        table = read_table(path, required=["theta_deg", col], what="lift table")
+    except InputFileError as exc:
+        detail = str(exc).removeprefix(str(path)).lstrip(":, ")
+        raise ConfigError(f"motion.table_file={str(path)!r} {detail}") from None
+    theta, lift = table.column("theta_deg"), table.column(col)
+    if theta.size > 1 and abs(theta[-1] - 360.0) < 1e-9:  # a closing 360° row repeats 0°
+        theta, lift = theta[:-1], lift[:-1]
+    return theta, lift
 
 
 def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec, ...]:
     specs = []
     seen: set[str] = set()
     units = {s.key: s.unit for s in mech.sources}
+    units.update({k: d.source.unit for k, d in DESIGN_SOURCES.items()})
     allowed = ", ".join(
         f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}" for k, u in units.items()
     )

@@ -1,7 +1,8 @@
 """Reading camtol's text inputs (design TOML, CSV tables, records): one clear line on bad bytes.
 
 Every input file is UTF-8 text. A UTF-8 byte-order mark (written by some spreadsheet
-programs) is accepted and dropped; UTF-16/UTF-32 files and bytes that are not UTF-8 give
+programs) is accepted and dropped, and UTF-16 with a byte-order mark is decoded (as
+:mod:`camtol.tables` does for tables); UTF-32 files and bytes that are not UTF-8 give
 one :class:`~camtol.exceptions.InputFileError` (or the error class the caller chooses)
 naming the file, the problem, and where it is.
 
@@ -26,9 +27,8 @@ MAX_INPUT_BYTES = 512 * 1024 * 1024
 _BOMS = (
     (b"\xff\xfe\x00\x00", "UTF-32 (little-endian)"),
     (b"\x00\x00\xfe\xff", "UTF-32 (big-endian)"),
-    (b"\xff\xfe", "UTF-16 (little-endian)"),
-    (b"\xfe\xff", "UTF-16 (big-endian)"),
 )
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 _tracked: list[set[tuple[int, int]]] = []
 
 
@@ -133,6 +133,11 @@ def read_text(
     for bom, name in _BOMS:
         if data.startswith(bom):
             raise error(f"{subject} is {name} text; camtol reads UTF-8: save it as UTF-8")
+    if data.startswith(_UTF16_BOMS):  # as the table reader (camtol.tables): BOM required
+        try:
+            return data.decode("utf-16")
+        except UnicodeDecodeError:
+            raise error(f"{subject} is not valid UTF-16 text; save it as UTF-8") from None
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
     try:
