@@ -64,11 +64,7 @@ def single_cam_designs(design: CamDesign) -> tuple[tuple[str, CamDesign], ...]:
     tuple of (str, CamDesign)
         Label (``""``, ``"A"`` or ``"B"``) and the single-contact design.
     """
-    if design.mechanism.kind != "conjugate":
-        return (("", design),)
-    from camtol.mechanisms.conjugate import cam_design
-
-    return (("A", cam_design(design, "A")), ("B", cam_design(design, "B")))
+    return tuple((cam.label, cam.design) for cam in design.cams())
 
 
 def validation_grid(design: CamDesign) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.intp]]:

@@ -447,6 +447,8 @@ def profile_points(
 def _csv_text(design: CamDesign, points: ProfilePoints) -> str:
     """One row per cam angle (union of every curve's vertices), x and y of each curve."""
     theta = np.unique(np.concatenate([c.theta_rad for c in points.curves]))
+    # Curves planned separately share boundary angles to within rounding: one row each.
+    theta = theta[np.concatenate([[True], np.diff(theta) > 1e-12])]
     specs = {s.layer: s for s in _curve_specs(design, points.cutter_radius_mm)}
     cols: dict[str, FloatArray] = {"theta_deg": np.degrees(theta)}
     for c in points.curves:
