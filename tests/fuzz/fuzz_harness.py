@@ -378,7 +378,15 @@ def command_line(command: str, design: Path, d: Path) -> tuple[list[str], dict[s
     """Arguments of a fast run of ``command`` and the outputs it should write."""
     if command == "analyze":
         out = {"curves": d / "curves.csv"}
-        return ["analyze", str(design), "--step", "1", "--json", "--curves", str(out["curves"])], out
+        return [
+            "analyze",
+            str(design),
+            "--step",
+            "1",
+            "--json",
+            "--curves",
+            str(out["curves"]),
+        ], out
     if command == "profile":
         out = {"profile": d / "profile.csv"}
         return ["profile", str(design), "-o", str(out["profile"]), "--tolerance", "2"], out
@@ -389,7 +397,15 @@ def command_line(command: str, design: Path, d: Path) -> tuple[list[str], dict[s
         return ["verify", str(design), "--step", "2", "--json", "--no-polyline"], {}
     if command == "conjugate":
         out = {"curves": d / "fixture.csv"}
-        return ["conjugate", str(design), "--step", "1", "--json", "--curves", str(out["curves"])], out
+        return [
+            "conjugate",
+            str(design),
+            "--step",
+            "1",
+            "--json",
+            "--curves",
+            str(out["curves"]),
+        ], out
     if command == "report":
         out = {"report": d / "r.html"}
         return ["report", str(design), "--step", "2", "-o", str(out["report"])], out

@@ -133,8 +133,10 @@ def random_design(draw: st.DrawFn) -> tuple[str, str]:
             follower[key] = float(value) * factor
     oscillating = follower["type"] in ("flat_oscillating", "roller_oscillating", "conjugate")
     unit = "deg" if oscillating else "mm"
-    travel = draw(st.sampled_from([1.0, 10.0, 30.0, 60.0])) if oscillating else draw(
-        st.sampled_from([0.5, 5.0, 20.0, 60.0])
+    travel = (
+        draw(st.sampled_from([1.0, 10.0, 30.0, 60.0]))
+        if oscillating
+        else draw(st.sampled_from([0.5, 5.0, 20.0, 60.0]))
     )
     doc["motion"] = {"segments": _segments(draw, unit, travel)}
     return f"{name} {follower} {doc['motion']}", to_toml(doc)
