@@ -244,7 +244,8 @@ def profile_problems(x: np.ndarray, y: np.ndarray, label: str) -> list[str]:
     if np.max(np.abs(turn)) > math.radians(60):
         k = int(np.argmax(np.abs(turn)))
         problems.append(
-            f"{label}: cusp or corner, the curve turns by {math.degrees(turn[k]):.1f}° at vertex {k}"
+            f"{label}: cusp or corner, the curve turns by {math.degrees(turn[k]):.1f}°"
+            f" at vertex {k}"
         )
     if abs(np.sum(turn) - 2 * math.pi) > 1e-3:
         problems.append(f"{label}: total turning {math.degrees(np.sum(turn)):.2f}°, not 360°")
@@ -295,7 +296,8 @@ def pitch_pressure_angle_ok(theta: np.ndarray, x: np.ndarray, y: np.ndarray) -> 
         k = int(np.argmin(cosphi))
         return [
             f"pitch curve: pressure angle recomputed from the exported points reaches"
-            f" {math.degrees(math.acos(min(1.0, cosphi[k]))):.2f}° at θ={math.degrees(theta[k]):.2f}°"
+            f" {math.degrees(math.acos(min(1.0, cosphi[k]))):.2f}°"
+            f" at θ={math.degrees(theta[k]):.2f}°"
         ]
     return []
 

@@ -21,9 +21,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
-
 from fuzz_harness import (
     COMMANDS,
     EXAMPLES,
@@ -39,6 +36,8 @@ from fuzz_harness import (
     run_design,
     to_toml,
 )
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 LONG = int(os.environ.get("CAMTOL_FUZZ_EXAMPLES", "2500"))
 FAST = settings(
