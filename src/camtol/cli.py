@@ -50,7 +50,7 @@ class _Exit(Exception):
 
 def fail(message: str, code: int = EXIT_USAGE) -> None:
     """Print one error line to stderr and leave with ``code``."""
-    click.echo(f"camtol: error: {message}", err=True)
+    click.echo(f"camtol: error: {_one_line(message)}", err=True)
     raise _Exit(code)
 
 
@@ -425,7 +425,7 @@ def main(args: Sequence[str] | None = None) -> int:
     except _Exit as e:
         return e.code
     except click.ClickException as e:
-        click.echo(f"camtol: error: {e.format_message()}", err=True)
+        click.echo(f"camtol: error: {_one_line(e.format_message())}", err=True)
         return EXIT_USAGE
     except click.exceptions.Abort:
         click.echo("camtol: aborted", err=True)

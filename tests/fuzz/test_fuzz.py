@@ -234,8 +234,8 @@ def flag_line(draw: st.DrawFn, tmp: Path) -> list[str]:
 def _flag_outputs(args: list[str]) -> dict[str, Path]:
     out = {}
     for opt in ("-o", "--curves"):
-        if opt in args:
-            p = Path(args[args.index(opt) + 1])
+        if opt in args:  # the last occurrence wins (click)
+            p = Path(args[len(args) - 1 - args[::-1].index(opt) + 1])
             if p.suffix == ".csv":
                 out["profile" if args[0] == "profile" else "curves"] = p
     return out

@@ -463,10 +463,7 @@ def conjugate_factors(theta_rad: ArrayLike, design: CamDesign) -> ConjugateFacto
     """
     pair = _pair(design)
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    from camtol.validity import check_design_geometry
-
-    check_design_geometry(design)
-    k = conjugate_kinematics(design, theta, check=False)
+    k = conjugate_kinematics(design, theta)
     return ConjugateFactors(
         theta_rad=theta,
         arm_a_mm=pair.arm_a_mm,
@@ -917,6 +914,10 @@ def inspect_conjugate(
     if n < 4 or abs(n * step_deg - 360.0) > 1e-9:
         raise DesignError(f"step_deg={step_deg:g} is not allowed; 360 must be a multiple of it")
     theta: FloatArray = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    from camtol.validity import check_design_geometry
+
+    _pair(design)
+    check_design_geometry(design)  # both cams, whatever the grid (issue 9)
     fac, variation, est, bands = _fixture_parts(design, spec, theta)
 
     def evaluate(t: FloatArray) -> dict[str, FloatArray]:
