@@ -31,6 +31,8 @@ CORE = [
     "tables.py",
     "grid.py",
     "contact",
+    "manufacturing",
+    "table_noise.py",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 

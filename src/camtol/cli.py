@@ -76,6 +76,31 @@ def load_input(design: str | None, example: str | None) -> Any:
     return load_example(example) if example is not None else load_design(str(design))
 
 
+def load_checked(design: str | None, example: str | None) -> Any:
+    """Load a design (as :func:`load_input`) and check that every cam can work.
+
+    For commands that go straight to manufacturing (``cut``, ``precision``, G-code): the
+    grid-independent geometry check of :func:`camtol.validity.check_design_geometry`.
+
+    Parameters
+    ----------
+    design : str or None
+        Path of a design file (TOML), or None when ``example`` is given.
+    example : str or None
+        Name of a built-in example, or None when ``design`` is given.
+
+    Returns
+    -------
+    CamDesign
+        The loaded, checked design.
+    """
+    from camtol.validity import check_design_geometry
+
+    d = load_input(design, example)
+    check_design_geometry(d)
+    return d
+
+
 def check_output_path(path: str | None, option: str, suffixes: Sequence[str]) -> None:
     """Reject an output path before any work: wrong suffix, a directory, not writable.
 
@@ -286,7 +311,13 @@ def cli() -> None:
 @cli.command()
 @design_options
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -324,28 +355,34 @@ def analyze(
         guard_paths({"DESIGN": design}, {"--curves": curves, "--plot": plot})
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
-        if plot_angle_deg is not None and not math.isfinite(plot_angle_deg):
-            fail(f"--plot-angle={plot_angle_deg!r} must be a finite number of degrees")
+        if plot_angle_deg is not None:
+            if plot is None:
+                fail("--plot-angle draws on the figure: give --plot FILE.png as well")
+            if not (math.isfinite(plot_angle_deg) and 0.0 <= plot_angle_deg < 360.0):
+                fail(
+                    f"--plot-angle={plot_angle_deg!r} is not allowed; give a cam angle from 0"
+                    " up to (not including) 360 degrees"
+                )
         from camtol.report import tables
 
         a = analyse_with_hint(load_input(design, example), step_deg=step_deg)
+        written = []
         if curves:
             tables.write_curves_csv(a, curves)
+            written.append(curves)
         if plot:
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
+            written.append(plot)
         if as_json:
             echo_json(tables.analysis_json(a))
         elif not quiet:
             tables.print_analysis(a)
+        if not quiet:
+            for path in written:  # on stderr with --json, so stdout stays one JSON document
+                click.echo(f"wrote {path}", err=as_json)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
-
-
-def _json_default(o: Any) -> Any:
-    if isinstance(o, float) and not math.isfinite(o):
-        return None
-    return str(o)
 
 
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
@@ -396,6 +433,11 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_manufacturing import cut, derive, precision
+
+    cli.add_command(precision)
+    cli.add_command(cut)
+    cli.add_command(derive)
     from camtol.cli_size import size
 
     cli.add_command(size)

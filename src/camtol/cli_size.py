@@ -6,13 +6,12 @@ found, 2 on bad input or when no base radius can meet the requirements.
 
 from __future__ import annotations
 
-import json
 import math
 from typing import Any
 
 import click
 
-from camtol.cli import EXIT_OK, _Exit, design_options, load_input, run_guarded
+from camtol.cli import EXIT_OK, _Exit, design_options, echo_json, load_input, run_guarded
 
 __all__ = ["size", "sizing_hint"]
 
@@ -104,7 +103,13 @@ def sizing_hint(design: Any) -> str | None:
     help="Also choose the offset of a translating roller follower (smallest max |φ|).",
 )
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def size(
@@ -147,7 +152,7 @@ def size(
             step_deg=step_deg,
         )
         if as_json:
-            click.echo(json.dumps(sizing_json(r), indent=2))
+            echo_json(sizing_json(r))
             return EXIT_OK
         click.echo(f"design             {d.name}")
         click.echo(

@@ -267,7 +267,9 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
                 " hit the pivot; increase the pivot distance or reduce the cam"
             )
     pa = np.abs(kin.pressure_angle_rad)
-    j = int(np.argmax(pa))
+    # Of (near-)equal maxima, e.g. a symmetric rise and return, report the first angle.
+    near = np.flatnonzero(pa >= np.max(pa) * (1.0 - 1e-9))
+    j = int(near[np.argmin(np.mod(kin.theta_rad[near], 2.0 * math.pi))])
     if pa[j] >= math.pi / 2:
         raise GeometryError(
             f"pressure angle {math.degrees(kin.pressure_angle_rad[j]):.2f}° at θ={deg[j]:.2f}°"
