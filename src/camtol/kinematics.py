@@ -269,7 +269,9 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     pa = np.abs(kin.pressure_angle_rad)
     # Of (near-)equal maxima, e.g. a symmetric rise and return, report the first angle.
     near = np.flatnonzero(pa >= np.max(pa) * (1.0 - 1e-9))
-    j = int(near[np.argmin(np.mod(kin.theta_rad[near], 2.0 * math.pi))])
+    at = np.mod(kin.theta_rad[near], 2.0 * math.pi)
+    first = near[np.abs(at - at.min()) < math.radians(1.0)]  # the first peak's samples
+    j = int(first[np.argmax(pa[first])])
     if pa[j] >= math.pi / 2:
         raise GeometryError(
             f"pressure angle {math.degrees(kin.pressure_angle_rad[j]):.2f}° at θ={deg[j]:.2f}°"
