@@ -93,7 +93,7 @@ def main() -> int:
             o = fh.run_cli(args, tf._flag_outputs(args))
             o.problems = fh.judge(o)  # type: ignore[attr-defined]
             for name, content in before.items():
-                if (tmp / name).read_bytes() != content:
+                if name in tf.flag_inputs(args, tmp) and (tmp / name).read_bytes() != content:
                     o.problems.append(f"input {name} was modified")  # type: ignore[attr-defined]
             record(" ".join(args)[:300], [o])
 

@@ -186,13 +186,8 @@ def kinematics(
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
     motion = design.program.evaluate(theta, left_limit=left)
-    if check and mech.output == "oscillating" and np.any(motion.velocity >= 1.0):
-        i = int(np.argmax(motion.velocity))
-        raise GeometryError(
-            f"the follower's angular velocity ratio V reaches {motion.velocity[i]:.4g} at"
-            f" θ={math.degrees(theta[i]):.2f}°; an oscillating follower needs V < 1 everywhere"
-            " (slow the motion: longer segments or a smaller swing)"
-        )
+    if check:
+        _check_velocity_ratio(design, theta, motion.velocity)
     g = mech.contact(theta, motion.lift, motion.velocity)
     rho = mech.curvature_radius(theta, motion.lift, motion.velocity, motion.acceleration)
     ax, ay = _val(g.contact_x), _val(g.contact_y)
@@ -222,6 +217,17 @@ def kinematics(
     return kin
 
 
+def _check_velocity_ratio(design: CamDesign, theta: FloatArray, velocity: FloatArray) -> None:
+    """Raise if an oscillating follower's V = dS/dθ reaches 1 (THEORY §2.4)."""
+    if design.mechanism.output == "oscillating" and np.any(velocity >= 1.0):
+        i = int(np.argmax(velocity))
+        raise GeometryError(
+            f"the follower's angular velocity ratio V reaches {velocity[i]:.4g} at"
+            f" θ={math.degrees(theta[i]):.2f}°; an oscillating follower needs V < 1 everywhere"
+            " (slow the motion: longer segments or a smaller swing)"
+        )
+
+
 def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     """Raise if the design cannot produce its motion; warn past the pressure-angle limit.
 
@@ -230,8 +236,10 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     UndercutError
         Radius of curvature ≤ 0 somewhere (THEORY §2.1: a flat face needs a convex cam).
     GeometryError
-        |pressure angle| ≥ 90°, or the geometry is undefined (NaN).
+        V ≥ 1 of an oscillating follower, |pressure angle| ≥ 90°, or the geometry is
+        undefined (NaN).
     """
+    _check_velocity_ratio(design, kin.theta_rad, kin.velocity)
     deg = np.degrees(kin.theta_rad)
     bad = ~np.isfinite(kin.radius_mm) | ~np.isfinite(kin.pressure_angle_rad)
     if np.any(bad):

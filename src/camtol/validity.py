@@ -24,7 +24,11 @@ roller, |φ| < 90°, V < 1 for an oscillating follower, the cam clear of the piv
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
+import weakref
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,19 +36,19 @@ from numpy.typing import NDArray
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
 from camtol.jet import FloatArray
-from camtol.kinematics import Kinematics, kinematics
+from camtol.kinematics import Kinematics, check_geometry, kinematics
 from camtol.motion import SegmentProgram
 
 __all__ = ["check_design_geometry", "single_cam_designs", "validation_grid"]
 
 #: Samples per segment (or per lift-table interval), boundaries included. A multiple of
 #: 8 plus one, so the piece ends of the modified laws (multiples of 1/8) are samples.
-SAMPLES_PER_SEGMENT = 257
+SAMPLES_PER_SEGMENT = 129
 #: Upper bound on the samples of the whole revolution (lift tables with many entries).
 MAX_SAMPLES = 400_000
 #: Worst candidates refined per criterion, zoom passes, and points per zoom pass.
-_CANDIDATES = 24
-_ZOOM_PASSES = 5
+_CANDIDATES = 8
+_ZOOM_PASSES = 4
 _ZOOM_POINTS = 17
 #: A velocity jump larger than this fraction of max |V| is a corner of the profile.
 _VELOCITY_JUMP_RTOL = 1e-6
@@ -151,39 +155,47 @@ def _check_velocity_jumps(
 def _refine(
     design: CamDesign,
     theta: FloatArray,
-    left: NDArray[np.bool_],
     interval: NDArray[np.intp],
     margins: list[FloatArray],
 ) -> FloatArray:
-    """Zoom around the lowest local minima of every margin; return the extra angles."""
-    extra: list[FloatArray] = []
+    """Zoom around the lowest local minima of every margin; return the refined angles.
+
+    All criteria are refined together: each pass evaluates the kinematics once on every
+    window, and each window shrinks to the two sample spacings around its best point.
+    """
     n = theta.size
     same_prev = np.concatenate([[False], interval[1:] == interval[:-1]])
     same_next = np.concatenate([interval[:-1] == interval[1:], [False]])
     inner = same_prev & same_next
-    for which, m in enumerate(margins):
-        if not np.any(inner):
-            break
+    which: list[int] = []
+    picks: list[NDArray[np.intp]] = []
+    for k, m in enumerate(margins):
         prev = np.roll(m, 1)
         nxt = np.roll(m, -1)
         cand = np.flatnonzero(inner & (m <= prev) & (m <= nxt) & np.isfinite(m))
-        if cand.size == 0:
-            continue
         cand = cand[np.argsort(m[cand])[:_CANDIDATES]]
-        lo = theta[np.clip(cand - 1, 0, n - 1)]
-        hi = theta[np.clip(cand + 1, 0, n - 1)]
-        for _ in range(_ZOOM_PASSES):
-            s = np.linspace(0.0, 1.0, _ZOOM_POINTS)
-            t = lo[:, None] + s[None, :] * (hi - lo)[:, None]
-            kin = kinematics(design, t.ravel(), check=False)
-            mm = _margins(design, kin)[which].reshape(t.shape)
-            extra.append(t.ravel())
-            k = np.argmin(mm, axis=1)
-            width = (hi - lo) / (_ZOOM_POINTS - 1)
-            centre = t[np.arange(t.shape[0]), k]
-            lo = np.maximum(centre - width, lo)
-            hi = np.minimum(centre + width, hi)
-    return np.concatenate(extra) if extra else np.empty(0)
+        picks.append(cand)
+        which += [k] * cand.size
+    if not which:
+        return np.empty(0)
+    cand = np.concatenate(picks)
+    crit = np.asarray(which)
+    lo = theta[np.clip(cand - 1, 0, n - 1)]
+    hi = theta[np.clip(cand + 1, 0, n - 1)]
+    s = np.linspace(0.0, 1.0, _ZOOM_POINTS)
+    rows = np.arange(cand.size)
+    best = theta[cand]
+    for _ in range(_ZOOM_PASSES):
+        t = lo[:, None] + s[None, :] * (hi - lo)[:, None]
+        kin = kinematics(design, t.ravel(), check=False)
+        values = np.stack([m.reshape(t.shape) for m in _margins(design, kin)])
+        mm = values[crit, rows, :]  # each window's own criterion
+        k = np.argmin(mm, axis=1)
+        best = t[rows, k]
+        width = (hi - lo) / (_ZOOM_POINTS - 1)
+        lo = np.maximum(best - width, lo)
+        hi = np.minimum(best + width, hi)
+    return np.asarray(best, dtype=float)
 
 
 def _check_single(design: CamDesign) -> None:
@@ -199,12 +211,19 @@ def _check_single(design: CamDesign) -> None:
         )
     _check_velocity_jumps(design, theta, left, motion.velocity)
     kin = kinematics(design, theta, left_limit=left, check=False)
-    # V ≥ 1 of an oscillating follower is reported by kinematics(check=True) below; the
-    # refinement finds its maximum between samples as for every other criterion.
-    extra = _refine(design, theta, left, interval, _margins(design, kin))
-    all_theta = np.concatenate([theta, extra])
-    all_left = np.concatenate([left, np.zeros(extra.size, bool)])
-    kinematics(design, all_theta, left_limit=all_left, check=True)
+    # The refinement finds each criterion's worst point between samples (V ≥ 1 of an
+    # oscillating follower included); the samples and those points are then checked.
+    extra = _refine(design, theta, interval, _margins(design, kin))
+    if extra.size:
+        more = kinematics(design, extra, check=False)
+        joined: dict[str, Any] = {
+            f.name: None
+            if getattr(kin, f.name) is None
+            else np.concatenate([getattr(kin, f.name), getattr(more, f.name)])
+            for f in dataclasses.fields(Kinematics)
+        }
+        kin = Kinematics(**joined)
+    check_geometry(design, kin)
 
 
 def check_design_geometry(design: CamDesign) -> None:
@@ -227,12 +246,36 @@ def check_design_geometry(design: CamDesign) -> None:
         §2.3), including on either side of a boundary where A jumps.
     DesignError
         The motion program itself is not finite (overflow).
+
+    Notes
+    -----
+    A design is immutable, so a design object that passed is remembered (weakly) and not
+    checked again; its warnings (pressure angle beyond the design limit) are repeated.
     """
-    for label, single in single_cam_designs(design):
-        try:
-            with np.errstate(all="ignore"):
-                _check_single(single)
-        except GeometryError as exc:
-            if not label:
-                raise
-            raise type(exc)(f"cam {label}: {exc}") from None
+    key = id(design)
+    seen = _passed.get(key)
+    if seen is not None and seen[0]() is design:
+        for w in seen[1]:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for label, single in single_cam_designs(design):
+            try:
+                with np.errstate(all="ignore"):
+                    _check_single(single)
+            except GeometryError as exc:
+                if not label:
+                    raise
+                raise type(exc)(f"cam {label}: {exc}") from None
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+    def forget(_ref: weakref.ref[CamDesign], k: int = key) -> None:
+        _passed.pop(k, None)
+
+    _passed[key] = (weakref.ref(design, forget), list(caught))
+
+
+#: Designs that passed, by id: (weak reference, warnings raised by the check).
+_passed: dict[int, tuple[weakref.ref[CamDesign], list[warnings.WarningMessage]]] = {}
