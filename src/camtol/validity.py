@@ -44,9 +44,12 @@ __all__ = ["check_design_geometry", "single_cam_designs", "validation_grid"]
 #: Samples per segment (or per lift-table interval), boundaries included. A multiple of
 #: 8 plus one, so the piece ends of the modified laws (multiples of 1/8) are samples.
 SAMPLES_PER_SEGMENT = 129
-#: Upper bound on the samples of the whole revolution (lift tables with many entries).
-MAX_SAMPLES = 400_000
+#: Samples of the whole revolution beyond which a program with many intervals (a lift
+#: table: a cubic per interval) gets fewer samples per interval, at least 3.
+MAX_SAMPLES = 65_536
 #: Worst candidates refined per criterion, zoom passes, and points per zoom pass.
+#: Most segments or lift-table entries checked (a table every 0.0036°).
+MAX_INTERVALS = 100_000
 _CANDIDATES = 8
 _ZOOM_PASSES = 4
 _ZOOM_POINTS = 17
@@ -92,8 +95,13 @@ def validation_grid(design: CamDesign) -> tuple[FloatArray, NDArray[np.bool_], N
     b = np.unique(np.mod(np.asarray(design.program.boundaries_rad, dtype=float), TWO_PI))
     if b.size == 0:
         b = np.array([0.0])
+    if b.size > MAX_INTERVALS:  # bound the work: both ends and a midpoint of each
+        raise DesignError(
+            f"the motion program has {b.size:,} segments or table entries; at most"
+            f" {MAX_INTERVALS:,} are supported (a lift table every {360 / MAX_INTERVALS:g}°)"
+        )
     ends = np.append(b[1:], b[0] + TWO_PI)
-    n = int(min(SAMPLES_PER_SEGMENT, max(9, MAX_SAMPLES // b.size)))
+    n = int(min(SAMPLES_PER_SEGMENT, max(3, MAX_SAMPLES // b.size)))
     x = np.linspace(0.0, 1.0, n)
     theta = b[:, None] + x[None, :] * (ends - b)[:, None]
     theta[:, -1] = ends
