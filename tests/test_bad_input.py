@@ -443,3 +443,37 @@ def test_geometry_error_names_cam_b() -> None:
     raw = tomllib.loads(_conjugate(arm_angle_deg=60.0))
     with pytest.raises(GeometryError, match="^cam B: pressure angle"):
         check_design_geometry(design_from_mapping(raw))
+
+
+def test_program_size_is_bounded() -> None:
+    import dataclasses
+
+    from camtol.exceptions import DesignError
+    from camtol.motion import LiftTable
+
+    d = design_from_mapping(tomllib.loads(example_text("roller-translating")))
+    n = 100_001
+    theta = np.arange(n) * 2 * np.pi / n
+    table = LiftTable(theta, 5 * (1 - np.cos(theta)))
+    with pytest.raises(DesignError, match="100,001 segments or table entries"):
+        check_design_geometry(dataclasses.replace(d, program=table))
+
+
+def test_nul_byte_and_directory_inputs(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    p = tmp_path / "nul.toml"
+    p.write_bytes(b'name = "x"\n\x00\n')
+    code, _, err = run(capsys, "analyze", str(p))
+    assert_one_error(code, err, "NUL byte", "line 2")
+    code, _, err = run(capsys, "analyze", str(tmp_path))
+    assert code == 2 and "Traceback" not in err
+
+
+def test_check_writable(tmp_path: Path) -> None:
+    from camtol.report.files import check_writable
+
+    check_writable(tmp_path / "ok.csv")
+    assert list(tmp_path.iterdir()) == []  # the probe file is removed
+    with pytest.raises(OutputError, match="is a directory"):
+        check_writable(tmp_path)
+    with pytest.raises(OutputError, match="does not exist"):
+        check_writable(tmp_path / "missing" / "x.csv")
