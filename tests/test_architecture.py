@@ -31,6 +31,8 @@ CORE = [
     "sizing.py",
     "tables.py",
     "grid.py",
+    "validity.py",
+    "textfile.py",
     "contact",
     "manufacturing",
     "table_noise.py",
