@@ -248,8 +248,7 @@ def report(
         guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
-        base_dir = Path(design).parent if design is not None else None
-        write_report(a, output, base_dir=base_dir)
+        write_report(a, output)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {
