@@ -116,8 +116,9 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
     }
 
 
-#: Columns of the fixture curves that are empty (all NaN) without a measured Δf.
-OPTIONAL_FIXTURE_COLUMNS = ("df_mea_um", "dr_A_est_um", "dr_B_est_um")
+#: Fixture columns that may be empty as a whole (all NaN): without a measured Δf, or
+#: without the prediction of Δf_est from known errors.
+OPTIONAL_FIXTURE_COLUMNS = ("df_mea_um", "df_est_pred_um", "dr_A_est_um", "dr_B_est_um")
 
 
 def fixture_curves_columns(
