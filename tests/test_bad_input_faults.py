@@ -149,7 +149,8 @@ def test_huge_arm_b_writes_no_nan(capsys: pytest.CaptureFixture[str], tmp_path: 
     design = write(tmp_path, "b.toml", _conjugate(arm_b_mm=1e300))
     curves = tmp_path / "c.csv"
     code, out, err = run(capsys, "analyze", str(design), "--json", "--curves", str(curves))
-    assert_one_error(code, err, "cam B")
+    assert_one_error(code, err)  # cam B's geometry, or the schema's bound on arm_b_mm
+    assert "cam B" in err or "arm_b_mm" in err
     assert "NaN" not in out and not curves.exists()
 
 
@@ -416,8 +417,8 @@ def test_huge_values_give_one_line(
 def test_profile_vertex_count_is_bounded(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    text = example_text("cw06-translating").replace("base_radius_mm = 40.0", "base_radius_mm = 2e5")
-    design = write(tmp_path, "d.toml", text.replace("lift_mm = 22.0", "lift_mm = 1e5"))
+    text = example_text("cw06-translating").replace("base_radius_mm = 40.0", "base_radius_mm = 9e4")
+    design = write(tmp_path, "d.toml", text.replace("lift_mm = 22.0", "lift_mm = 1e4"))
     out = tmp_path / "p.csv"
     code, _, err = run(capsys, "profile", str(design), "-o", str(out), "--tolerance", "0.0001")
     assert_one_error(code, err, "vertices", "--tolerance")

@@ -248,7 +248,9 @@ def report(
         guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
-        write_report(a, output)
+        from camtol.study import study
+
+        write_report(study(a), output)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

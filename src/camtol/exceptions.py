@@ -10,10 +10,12 @@ __all__ = [
     "CamtolError",
     "ConfigError",
     "DesignError",
+    "ExportError",
     "GeometryError",
     "InputFileError",
     "OutputError",
     "PressureAngleWarning",
+    "ToleranceGradeError",
     "UndercutError",
 ]
 
@@ -36,6 +38,14 @@ class InputFileError(CamtolError, ValueError):
 
 class OutputError(CamtolError, ValueError):
     """An output cannot be written: a bad destination, an OS error, or a non-finite value."""
+
+
+class ToleranceGradeError(CamtolError, ValueError):
+    """An unknown tolerance grade, or a grade/size ISO 286 does not define (THEORY §3.6)."""
+
+
+class ExportError(CamtolError, ValueError):
+    """An export was asked for in a form camtol cannot write (suffix, path, tolerance)."""
 
 
 class GeometryError(DesignError):
