@@ -60,6 +60,7 @@ CORE = [
     "textfile.py",
     "grid.py",
     "validity.py",
+    "textfile.py",
     "contact",
     "manufacturing",
     "table_noise.py",

@@ -407,13 +407,16 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     # The numbers are those of the design's first cam (cam A of a conjugate pair, whose
     # further cams are in other_cams); the Analysis keeps the design itself. Every cam is
     # checked (issue 9 item 3): a further cam that cannot work fails the analysis too.
+    from camtol.validity import check_design_geometry
+
+    # The geometry first (every cam, independent of the grid: issue 9), so an invalid
+    # design fails before anything else; then one evaluation of the engine on the grid.
+    check_design_geometry(design)
     cams = design.cams()
     cam = cams[0].design
     others = tuple((c.label, _checked(c.label, c.design, step_deg)) for c in cams[1:])
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    # One evaluation of the engine on the grid; it checks the geometry first, so an
-    # invalid design fails before anything else.
-    kin, sens = evaluate_engine(cam, theta, left, check=True)
+    kin, sens = evaluate_engine(cam, theta, left, check=False)
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
     tolerances = cam.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
@@ -436,6 +439,7 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     quantities = _quantities(cam, tolerances)
     err = errors_from_sensitivities(theta, left, sens, tolerances)
     curves = Curves(cam, kin, err, sens["r"].v)
+    _require_finite(quantities, curves, theta)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)
@@ -466,6 +470,23 @@ def _checked(label: str, design: CamDesign, step_deg: float) -> Kinematics:
         return kinematics(design, theta, left_limit=left, check=True)
     except GeometryError as exc:  # same class (UndercutError stays one), cam named
         raise type(exc)(f"cam {label}: {exc}") from None
+
+
+def _require_finite(
+    quantities: tuple[Quantity, ...], curves: Mapping[str, FloatArray], theta_rad: FloatArray
+) -> None:
+    """Raise a DesignError naming the first quantity that is not finite, and where."""
+    from camtol.exceptions import DesignError
+
+    for q in quantities:
+        ok = np.isfinite(curves[q.key])
+        if not np.all(ok):
+            i = int(np.argmax(~ok))
+            raise DesignError(
+                f"{q.label} is {float(curves[q.key][i])!r} at θ={math.degrees(theta_rad[i]):.6g}°:"
+                " the computation overflows; a dimension or tolerance of the design is far"
+                " outside a plausible range"
+            )
 
 
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and

@@ -9,8 +9,8 @@ succeeded, and atomically (no half-written output).
 from __future__ import annotations
 
 import importlib
-import json
 import math
+import os
 import sys
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -26,6 +26,8 @@ from camtol.exceptions import CamtolError
 __all__ = [
     "main",
     "cli",
+    "echo_json",
+    "guard_paths",
     "analyse_with_hint",
     "load_input",
     "run_guarded",
@@ -50,7 +52,7 @@ class _Exit(Exception):
 
 def fail(message: str, code: int = EXIT_USAGE) -> None:
     """Print one error line to stderr and leave with ``code``."""
-    click.echo(f"camtol: error: {message}", err=True)
+    click.echo(f"camtol: error: {_one_line(message)}", err=True)
     raise _Exit(code)
 
 
@@ -76,15 +78,115 @@ def load_input(design: str | None, example: str | None) -> Any:
     return load_example(example) if example is not None else load_design(str(design))
 
 
+def load_checked(design: str | None, example: str | None) -> Any:
+    """Load a design (as :func:`load_input`) and check that every cam can work.
+
+    For commands that go straight to manufacturing (``cut``, ``precision``, G-code): the
+    grid-independent geometry check of :func:`camtol.validity.check_design_geometry`.
+
+    Parameters
+    ----------
+    design : str or None
+        Path of a design file (TOML), or None when ``example`` is given.
+    example : str or None
+        Name of a built-in example, or None when ``design`` is given.
+
+    Returns
+    -------
+    CamDesign
+        The loaded, checked design.
+    """
+    from camtol.validity import check_design_geometry
+
+    d = load_input(design, example)
+    check_design_geometry(d)
+    return d
+
+
 def check_output_path(path: str | None, option: str, suffixes: Sequence[str]) -> None:
-    """Reject an output path with a wrong suffix or a missing directory, before any work."""
+    """Reject an output path before any work: wrong suffix, a directory, not writable.
+
+    Parameters
+    ----------
+    path : str or None
+        The output file (None: the option was not given).
+    option : str
+        The option as the user wrote it, e.g. ``--curves``.
+    suffixes : sequence of str
+        Allowed lower-case suffixes, e.g. ``[".csv"]``.
+    """
     if path is None:
         return
+    from camtol.report.files import check_writable
+
     p = Path(path)
+    if p.is_dir():
+        fail(f"{option}={path!r} is a directory; give a file name")
     if p.suffix.lower() not in suffixes:
         fail(f"{option}={path!r}: the file name must end in {' or '.join(suffixes)}")
     if not p.parent.exists():
         fail(f"{option}={path!r}: directory {str(p.parent)!r} does not exist")
+    try:
+        check_writable(p)
+    except CamtolError as exc:
+        fail(f"{option}={path!r}: {exc}")
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Tell whether two paths name one file (symlinks, ``..`` and hard links resolved)."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def guard_paths(inputs: Mapping[str, str | None], outputs: Mapping[str, str | None]) -> None:
+    """Refuse an output that is an input or another output of the same command.
+
+    Every command declares its file inputs and outputs, keyed by the option (or argument)
+    as the user wrote it; this runs before any work. Paths are compared after resolving
+    symbolic links and ``..`` (and as the same inode for existing files), so neither a
+    link nor a relative detour can make camtol overwrite its own input. Inputs named
+    inside a design file (lift tables, inspection tables) are protected at write time by
+    :func:`camtol.report.files.atomic_output`.
+
+    Parameters
+    ----------
+    inputs : mapping of str to str or None
+        Input files by option name; None entries are ignored.
+    outputs : mapping of str to str or None
+        Output files by option name; None entries are ignored.
+    """
+    ins = [(k, v) for k, v in inputs.items() if v is not None]
+    outs = [(k, v) for k, v in outputs.items() if v is not None]
+    for i, (opt, path) in enumerate(outs):
+        for in_opt, in_path in ins:
+            if _same_file(path, in_path):
+                fail(
+                    f"{opt}={path!r} is the same file as the input {in_opt}={in_path!r};"
+                    " camtol never overwrites an input: choose another output name"
+                )
+        for other_opt, other in outs[:i]:
+            if _same_file(path, other):
+                fail(
+                    f"{opt}={path!r} is the same file as {other_opt}={other!r}; give each"
+                    " output its own file name"
+                )
+
+
+def echo_json(doc: Any) -> None:
+    """Print a document as strict JSON (a NaN or infinity is an error, never printed).
+
+    Parameters
+    ----------
+    doc : object
+        Nested dicts, lists and scalars.
+    """
+    from camtol.report.finite import json_text
+
+    click.echo(json_text(doc))
 
 
 def run_guarded(fn: Callable[[], int | None]) -> int:
@@ -104,15 +206,61 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
     """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        code: int | None = EXIT_USAGE  # until fn returns (fail() leaves by an exception)
         try:
             code = fn()
         except CamtolError as exc:
-            click.echo(f"camtol: error: {exc}", err=True)
+            click.echo(f"camtol: error: {_one_line(str(exc))}", err=True)
+            code = EXIT_USAGE
+        except OSError as exc:  # an input or output the OS refuses, in one line
+            name = exc.filename if exc.filename is not None else "a file"
+            click.echo(f"camtol: error: {name}: {exc.strerror or exc}", err=True)
+            code = EXIT_USAGE
+        except (ArithmeticError, MemoryError, RecursionError) as exc:
+            click.echo(f"camtol: error: {_numerical_failure(exc)}", err=True)
+            code = EXIT_USAGE
+        except Exception as exc:
+            from numpy.linalg import LinAlgError
+
+            if not isinstance(exc, LinAlgError):
+                raise
+            click.echo(f"camtol: error: {_numerical_failure(exc)}", err=True)
             code = EXIT_USAGE
         finally:
+            if code == EXIT_USAGE:  # the error says it: numpy's overflow chatter is noise
+                caught = [w for w in caught if not issubclass(w.category, RuntimeWarning)]
             for message in dict.fromkeys(str(w.message) for w in caught):  # once each
                 click.echo(f"camtol: warning: {message}", err=True)
     return EXIT_OK if code is None else code
+
+
+#: Longest error line printed; longer messages are shortened in the middle. [characters]
+MAX_MESSAGE_CHARS = 600
+
+
+def _one_line(message: str) -> str:
+    """One line of at most :data:`MAX_MESSAGE_CHARS` characters."""
+    text = " ".join(message.split())
+    if len(text) > MAX_MESSAGE_CHARS:
+        half = MAX_MESSAGE_CHARS // 2 - 3
+        text = f"{text[:half]} ... {text[-half:]}"
+    return text
+
+
+def _numerical_failure(exc: BaseException) -> str:
+    """Message for a numerical failure no check caught (overflow, singular system...)."""
+    what = {
+        "OverflowError": "a number overflows",
+        "ZeroDivisionError": "a division by zero",
+        "FloatingPointError": "a floating-point error",
+        "MemoryError": "the computation needs more memory than is available",
+        "RecursionError": "an expression is nested too deeply",
+        "LinAlgError": "a linear system is singular",
+    }.get(type(exc).__name__, type(exc).__name__)
+    return _one_line(
+        f"numerical failure ({what}: {exc}); the design or option values are outside the"
+        " range camtol can compute: check their magnitudes"
+    )
 
 
 def analyse_with_hint(design: Any, *, step_deg: float) -> Any:
@@ -262,6 +410,7 @@ def analyze(
     """
 
     def body() -> int:
+        guard_paths({"DESIGN": design}, {"--curves": curves, "--plot": plot})
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         if plot_angle_deg is not None:
@@ -283,7 +432,7 @@ def analyze(
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
             written.append(plot)
         if as_json:
-            click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
+            echo_json(tables.analysis_json(a))
         elif not quiet:
             tables.print_analysis(a)
         if not quiet:
@@ -294,17 +443,14 @@ def analyze(
     raise _Exit(run_guarded(body))
 
 
-def _json_default(o: Any) -> Any:
-    if isinstance(o, float) and not math.isfinite(o):
-        return None
-    return str(o)
-
-
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
     from camtol.drawing import analysis_drawing
     from camtol.report.files import atomic_output
+    from camtol.report.finite import require_finite_columns
     from camtol.report.plots import analysis_figure
+    from camtol.report.tables import curves_columns
 
+    require_finite_columns(curves_columns(analysis), where=path)
     fig = analysis_figure(analysis, analysis_drawing(analysis, cam_angle_deg))
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
@@ -412,12 +558,15 @@ def main(args: Sequence[str] | None = None) -> int:
     int
         Exit status.
     """
+    from camtol.textfile import tracking_inputs
+
     try:
-        cli.main(args=list(args) if args is not None else None, standalone_mode=False)
+        with tracking_inputs():
+            cli.main(args=list(args) if args is not None else None, standalone_mode=False)
     except _Exit as e:
         return e.code
     except click.ClickException as e:
-        click.echo(f"camtol: error: {e.format_message()}", err=True)
+        click.echo(f"camtol: error: {_one_line(e.format_message())}", err=True)
         return EXIT_USAGE
     except click.exceptions.Abort:
         click.echo("camtol: aborted", err=True)

@@ -8,7 +8,6 @@ bad input.
 from __future__ import annotations
 
 import dataclasses
-import json
 from pathlib import Path
 
 import click
@@ -17,16 +16,24 @@ from camtol.cli import (
     EXIT_FAIL,
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
+    guard_paths,
     load_input,
     run_guarded,
 )
 from camtol.cli_records import check_store_options, store_fixture_records, store_options
 
 __all__ = ["conjugate"]
+
+
+def _file_arg(value: str | None) -> str | None:
+    """Return the path of a VALUE|FILE.csv|FORMULA option naming a file, else None."""
+    if value is None or not value.strip().lower().endswith(".csv"):
+        return None
+    return value.strip()
 
 
 @click.command()
@@ -163,6 +170,16 @@ def conjugate(
         from camtol.inspection.fixture import MAX_FIXTURE_POINTS
 
         check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
+        guard_paths(
+            {
+                "DESIGN": design,
+                "--record": record_path,
+                "--df-mea": _file_arg(df_mea),
+                "--master-a": _file_arg(master_a),
+                "--master-b": _file_arg(master_b),
+            },
+            {"--curves": curves, "--plot": plot},
+        )
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         check_output_path(cmm_plot, "--cmm-plot", [".png", ".svg", ".pdf"])
@@ -240,8 +257,14 @@ def conjugate(
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
             from camtol.report.files import atomic_output
+            from camtol.report.finite import require_finite_columns
             from camtol.report.plots import fixture_figure
 
+            require_finite_columns(
+                rep.fixture_curves_columns(res, record=estimates),
+                optional=rep.OPTIONAL_FIXTURE_COLUMNS,
+                where=plot,
+            )
             fig = fixture_figure(
                 res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
             )
@@ -259,7 +282,7 @@ def conjugate(
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             if comparison is not None:
                 data["cmm_comparison"] = comparison.summary()
-            click.echo(json.dumps(data, indent=2, default=_json_default))
+            echo_json(data)
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
             if comparison is not None:

@@ -8,7 +8,6 @@ input (one line on stderr, nothing written). Output files go through
 from __future__ import annotations
 
 import io
-import json
 import math
 from typing import Any
 
@@ -17,11 +16,12 @@ import click
 from camtol.cli import (
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
-    load_input,
+    guard_paths,
+    load_checked,
     run_guarded,
 )
 
@@ -129,13 +129,13 @@ def precision(
         decimals = _ints(decimals_text, "--decimals")
         check_step(table_step_deg, name="--table-step", min_points=8)
         st = table_precision(
-            load_input(design, example),
+            load_checked(design, example),
             table_step_deg=table_step_deg,
             decimals=decimals,
             accel_budget_pct=accel_budget_pct,
         )
         if as_json:
-            click.echo(json.dumps(_precision_json(st), indent=2, default=_json_default))
+            echo_json(_precision_json(st))
             return EXIT_OK
         u = st.lift_unit
         echo = click.echo
@@ -258,6 +258,7 @@ def cut(
         from camtol.manufacturing.cutting import coarsest_cut_step, simulate_cut
         from camtol.manufacturing.toolpath import single_cams
         from camtol.report.files import atomic_write
+        from camtol.report.finite import require_finite_columns
 
         steps = _floats(cut_steps_text, "--cut-step")
         for s in steps:
@@ -278,8 +279,9 @@ def cut(
                     f"--read-step={read_step_deg:g} is not allowed; it must not be coarser than"
                     f" the finest cutting step {min(steps):g}°"
                 )
+        guard_paths({"DESIGN": design}, {"--curves": curves_path})
         check_output_path(curves_path, "--curves", [".csv"])
-        d = load_input(design, example)
+        d = load_checked(design, example)
         cams = dict(single_cams(d))
         one = cams.get(cam if len(cams) > 1 else "", d)
         radius = tool_radius_mm or 0.0
@@ -309,6 +311,7 @@ def cut(
             data = np.column_stack(
                 [np.degrees(again[0].theta_rad)] + [r.lift_error_display for r in again]
             )
+            require_finite_columns(dict(zip(header, data.T, strict=True)), where=curves_path)
             buf = io.StringIO()
             buf.write(",".join(header) + "\n")
             for row in data:
@@ -326,7 +329,7 @@ def cut(
                 doc["lift_tolerance"] = lift_tol
                 doc["accel_budget_pct"] = accel_budget_pct
                 doc["coarsest_cut_step_deg"] = coarsest
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
             return EXIT_OK
         u = results[0].lift_error_unit
         lu = "°" if oscillating else "mm"
@@ -409,8 +412,10 @@ def derive(
         from camtol.exceptions import InputFileError
         from camtol.manufacturing.derivatives import derive_lift
         from camtol.report.files import atomic_write
+        from camtol.report.finite import require_finite_columns
         from camtol.tables import read_table
 
+        guard_paths({"LIFT.csv": lift_csv}, {"--output": output})
         check_output_path(output, "--output", [".csv"])
         table = read_table(lift_csv, required=["theta_deg"], optional=["lift_mm", "lift_deg"])
         cols = [c for c in ("lift_mm", "lift_deg") if c in table]
@@ -449,6 +454,8 @@ def derive(
             data = np.column_stack(
                 [theta, res.lift_measured, res.lift, res.velocity, res.acceleration, res.jerk]
             )
+            names = ["theta_deg", "lift", "lift_smoothed", "V", "A", "J"]
+            require_finite_columns(dict(zip(names, data.T, strict=True)), where=output)
             for row in data:
                 buf.write(",".join(f"{v:.10g}" for v in row) + "\n")
             atomic_write(output, buf.getvalue())
@@ -474,7 +481,7 @@ def derive(
             "max_abs_A": float(abs(res.acceleration).max()),
         }
         if as_json:
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
             return EXIT_OK
         nu = "µm" if unit == "mm" else "0.001°"
         how = {"gcv": "generalised cross-validation", "noise": "the given noise level",

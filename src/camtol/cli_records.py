@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 from collections.abc import Callable, Sequence
 from datetime import datetime
@@ -19,7 +18,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from camtol.cli import EXIT_OK, _Exit, _json_default, check_output_path, fail, run_guarded
+from camtol.cli import EXIT_OK, _Exit, check_output_path, echo_json, fail, run_guarded
 
 if TYPE_CHECKING:
     from camtol.inspection.lots import LotStatistics
@@ -89,7 +88,7 @@ def list_records(
         with _open_existing(store) as s:
             recs = s.records(design=design, lot=lot, cam=_cam_filter(cam))
         if as_json:
-            click.echo(json.dumps({"records": [r.summary() for r in recs]}, indent=2))
+            echo_json({"records": [r.summary() for r in recs]})
             return EXIT_OK
         click.echo(
             f"{'id':>5} {'inspected_at (UTC)':19} {'design':18} {'cam':3} {'part':12}"
@@ -122,7 +121,7 @@ def show_record(record_id: int, store: str, as_json: bool, curves: str | None) -
         if curves:
             _write_csv(curves, ["theta_deg", "dr_um"], [rec.theta_deg, rec.dr_um])
         if as_json:
-            click.echo(json.dumps(rec.summary(), indent=2, default=_json_default))
+            echo_json(rec.summary())
         else:
             for key, value in rec.summary().items():
                 click.echo(f"{key:16} {'' if value is None else value}")
@@ -244,7 +243,7 @@ def stats(
             )
         out = _stats_json(st, recs, basis, design, lot)
         if as_json:
-            click.echo(json.dumps(out, indent=2))
+            echo_json(out)
         else:
             for key, value in out.items():
                 if key != "record_ids":

@@ -6,7 +6,6 @@ bad input or a design that cannot be made; nothing is written unless everything 
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -15,10 +14,11 @@ import click
 from camtol.cli import (
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
+    guard_paths,
     load_input,
     run_guarded,
 )
@@ -92,6 +92,7 @@ def profile(
     def body() -> int:
         from camtol.report.export import EXPORT_SUFFIXES, write_profile
 
+        guard_paths({"DESIGN": design}, {"--output": output})
         if Path(output).suffix.lower() in GCODE_SUFFIXES:
             return _write_gcode(
                 load_input, design, example, output, tolerance_um, cutter_radius_mm,
@@ -128,7 +129,7 @@ def profile(
                     for c in pts.curves
                 ],
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
         elif not quiet:
             for c in pts.curves:
                 click.echo(
@@ -174,8 +175,12 @@ def _write_gcode(
     ):
         if val is not None and not (val >= 0 and val == val and val != float("inf")):
             fail(f"{flag}={val:g} is not allowed; give a length ≥ 0 in mm")
+    from camtol.validity import check_design_geometry
+
+    d = load(design, example)
+    check_design_geometry(d)  # an impossible cam is not cut (issue 9)
     prog = write_gcode(
-        load(design, example),
+        d,
         tool_radius_mm=cutter_radius_mm,
         tolerance_mm=tolerance_um * 1e-3,
         mode=mode,
@@ -193,7 +198,7 @@ def _write_gcode(
             "blocks": prog.blocks,
             "max_fit_deviation_um": prog.max_fit_deviation_mm * 1e3,
         }
-        click.echo(json.dumps(doc, indent=2, default=_json_default))
+        echo_json(doc)
     elif not quiet:
         click.echo(
             f"G-code ({prog.mode}): {prog.blocks} blocks, cutter-path offset"
@@ -240,6 +245,7 @@ def report(
         from camtol.analysis import analyse
         from camtol.report.html import write_report
 
+        guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
         from camtol.study import study
@@ -253,7 +259,7 @@ def report(
                 "max_worst_case": {"value": worst.value, "unit": a.error_unit},
                 "accuracy": a.accuracy.describe(),
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc)
         elif not quiet:
             click.echo(f"wrote {output} ({a.design.name}: {a.accuracy.describe()})")
         return EXIT_OK

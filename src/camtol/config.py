@@ -475,10 +475,9 @@ def load_design(path: str | Path) -> CamDesign:
         The file is missing, not TOML, or invalid.
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"design file {str(p)!r} cannot be read: {exc.strerror}") from None
+    from camtol.textfile import read_text
+
+    text = read_text(p, what="design file", error=ConfigError, max_bytes=16 * 2**20)
     return design_from_mapping(_parse_toml(text, f"design file {str(p)!r}"), base_dir=p.parent)
 
 

@@ -13,6 +13,7 @@ __all__ = [
     "ExportError",
     "GeometryError",
     "InputFileError",
+    "OutputError",
     "PressureAngleWarning",
     "RecordError",
     "ToleranceGradeError",
@@ -34,6 +35,10 @@ class ConfigError(DesignError):
 
 class InputFileError(CamtolError, ValueError):
     """A data file (CSV table, measurement) cannot be read or is malformed."""
+
+
+class OutputError(CamtolError, ValueError):
+    """An output cannot be written: a bad destination, an OS error, or a non-finite value."""
 
 
 class ToleranceGradeError(CamtolError, ValueError):

@@ -240,10 +240,14 @@ def check_velocity_ratio(design: CamDesign, theta_rad: FloatArray, motion: Motio
     GeometryError
         V ≥ 1 somewhere for an oscillating follower.
     """
-    if design.mechanism.output == "oscillating" and np.any(motion.velocity >= 1.0):
-        i = int(np.argmax(motion.velocity))
+    _velocity_ratio(design, theta_rad, motion.velocity)
+
+
+def _velocity_ratio(design: CamDesign, theta_rad: FloatArray, velocity: FloatArray) -> None:
+    if design.mechanism.output == "oscillating" and np.any(velocity >= 1.0):
+        i = int(np.argmax(velocity))
         raise GeometryError(
-            f"the follower's angular velocity ratio V reaches {motion.velocity[i]:.4g} at"
+            f"the follower's angular velocity ratio V reaches {velocity[i]:.4g} at"
             f" θ={math.degrees(theta_rad[i]):.2f}°; an oscillating follower needs V < 1"
             " everywhere (slow the motion: longer segments or a smaller swing)"
         )
@@ -257,8 +261,10 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     UndercutError
         Radius of curvature ≤ 0 somewhere (THEORY §2.1: a flat face needs a convex cam).
     GeometryError
-        |pressure angle| ≥ 90°, or the geometry is undefined (NaN).
+        V ≥ 1 of an oscillating follower, |pressure angle| ≥ 90°, or the geometry is
+        undefined (NaN).
     """
+    _velocity_ratio(design, kin.theta_rad, kin.velocity)
     deg = np.degrees(kin.theta_rad)
     bad = ~np.isfinite(kin.radius_mm) | ~np.isfinite(kin.pressure_angle_rad)
     if np.any(bad):
@@ -282,7 +288,11 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
                 " hit the pivot; increase the pivot distance or reduce the cam"
             )
     pa = np.abs(kin.pressure_angle_rad)
-    j = int(np.argmax(pa))
+    # Of (near-)equal maxima, e.g. a symmetric rise and return, report the first angle.
+    near = np.flatnonzero(pa >= np.max(pa) * (1.0 - 1e-9))
+    at = np.mod(kin.theta_rad[near], 2.0 * math.pi)
+    first = near[np.abs(at - at.min()) < math.radians(1.0)]  # the first peak's samples
+    j = int(first[np.argmax(pa[first])])
     if pa[j] >= math.pi / 2:
         raise GeometryError(
             f"pressure angle {math.degrees(kin.pressure_angle_rad[j]):.2f}° at θ={deg[j]:.2f}°"

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from camtol.design import CamDesign
 from camtol.exceptions import ExportError, GeometryError, UndercutError
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import analysis_grid, contact_jets, kinematics
+from camtol.kinematics import analysis_grid, contact_jets
 
 __all__ = [
     "DEFAULT_TOLERANCE_MM",
@@ -54,6 +54,9 @@ _MAX_STEP_DEG = 1.0
 _SAFETY = 0.8
 #: Bisection passes allowed for the verification.
 _MAX_PASSES = 40
+#: Most vertices of one exported curve; more means the tolerance is too fine for the cam's
+#: size (bounds the work and the file). [vertices]
+MAX_VERTICES = 2_000_000
 
 
 @dataclass(frozen=True)
@@ -261,14 +264,9 @@ def curve_specs(design: CamDesign, cutter_radius_mm: float | None) -> list[Curve
 
 def _check_design(design: CamDesign) -> None:
     """Raise if a cam cannot be made (undercut, V ≥ 1, ...), naming the cam and angle."""
-    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
-    for cam in design.cams():
-        try:
-            kinematics(cam.design, theta, left_limit=left, check=True)
-        except GeometryError as exc:  # name the cam (same class: UndercutError stays one)
-            if not cam.label:
-                raise
-            raise type(exc)(f"cam {cam.label}: {exc}") from None
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)  # every cam, independent of any grid (issue 9)
 
 
 # ---------------------------------------------------------------------------------------
@@ -310,6 +308,13 @@ def _plan(fn: CurveFunction, boundaries_rad: FloatArray, tol: float) -> FloatArr
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (d[1:] + d[:-1]) * np.diff(t))])
         n = max(1, math.ceil(cum[-1]))
         out.append(np.interp(np.linspace(0.0, cum[-1], n + 1)[:-1], cum, t))
+    total = sum(v.size for v in out)
+    if total > MAX_VERTICES:
+        raise ExportError(
+            f"the chordal tolerance {tol * 1e3:g} µm needs about {total:,} vertices per curve"
+            f" for a cam of this size; at most {MAX_VERTICES:,} are written: give a larger"
+            " --tolerance"
+        )
     verts = np.unique(np.concatenate(out))
     return np.asarray(verts[verts < 2.0 * math.pi - 1e-12])
 
@@ -349,6 +354,11 @@ def _sample_curve(spec: CurveSpec, boundaries_rad: FloatArray, tol: float) -> Pr
             return ProfileCurve(spec.layer, spec.description, theta, s.x, s.y, float(np.max(dev)))
         t1 = np.append(theta[1:], 2.0 * math.pi)
         theta = np.sort(np.concatenate([theta, 0.5 * (theta[bad] + t1[bad])]))
+        if theta.size > MAX_VERTICES:
+            raise ExportError(
+                f"the {spec.description} needs more than {MAX_VERTICES:,} vertices at the"
+                f" chordal tolerance {tol * 1e3:g} µm; give a larger --tolerance"
+            )
     raise GeometryError(  # pragma: no cover - would need a non-smooth curve
         f"the {spec.description} could not be sampled within {tol * 1e3:g} µm"
         f" (worst chord at θ={math.degrees(theta[int(np.argmax(dev))]):.3f}°)"
@@ -455,6 +465,8 @@ def profile_table(design: CamDesign, points: ProfilePoints) -> dict[str, FloatAr
         curve (layer in lower case), evaluated exactly on the analytic curves.
     """
     theta = np.unique(np.concatenate([c.theta_rad for c in points.curves]))
+    # Curves planned separately share boundary angles to within rounding: one row each.
+    theta = theta[np.concatenate([[True], np.diff(theta) > 1e-12])]
     specs = {s.layer: s for s in curve_specs(design, points.cutter_radius_mm)}
     cols: dict[str, FloatArray] = {"theta_deg": np.degrees(theta)}
     for c in points.curves:

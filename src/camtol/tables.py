@@ -165,6 +165,9 @@ def _read_text(path: Path) -> str:
     try:
         _file_size(path)
         raw = path.read_bytes()
+        from camtol.textfile import note_input
+
+        note_input(path)  # an output may not replace it (camtol.report.files)
     except IsADirectoryError:
         raise InputFileError(f"{path}: is a directory, not a table file") from None
     except OSError as exc:

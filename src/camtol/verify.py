@@ -36,7 +36,7 @@ from camtol.contact.shapes import AnalyticShape, PolygonShape
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.errors import error_analysis
 from camtol.jet import FloatArray, Jet
-from camtol.kinematics import analysis_grid, kinematics
+from camtol.kinematics import analysis_grid
 from camtol.sources import DESIGN_SOURCES
 
 if TYPE_CHECKING:
@@ -387,7 +387,9 @@ def verify(design: CamDesign, *, step_deg: float = 0.1, polyline: bool = True) -
     from camtol.analysis import max_radius_mm
 
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kinematics(design, theta, left_limit=left, check=True)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
     motion = design.program.evaluate(theta, left_limit=left)
     res = follow(_nominal_shape(design), design.mechanism, theta, left_limit=left)
     tolerances = design.resolve_tolerances(max_radius_mm(design))
@@ -492,7 +494,6 @@ def verify_conjugate(
         Also check the exported polylines.
     """
     from camtol.analysis import max_radius_mm
-    from camtol.conjugate import conjugate_kinematics
     from camtol.contact.fixture import Fixture, simulate_fixture
     from camtol.inspection.conjugate import conjugate_factors, conjugate_variation
     from camtol.mechanisms.conjugate import ConjugatePair
@@ -500,7 +501,9 @@ def verify_conjugate(
     pair = design.mechanism
     assert isinstance(pair, ConjugatePair)
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    conjugate_kinematics(design, theta, left_limit=left, check=True)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)
     shape_a = AnalyticShape(pair.cam_a, design.program)
     shape_b = AnalyticShape(pair.cam_b, design.program)
     xi0 = pair.initial_angle_rad

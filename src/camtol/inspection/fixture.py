@@ -156,6 +156,9 @@ def inspect_conjugate(
 def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureInspection:
     n = check_step(step_deg, name="step_deg", min_points=_MIN_POINTS, max_points=MAX_FIXTURE_POINTS)
     theta: FloatArray = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    from camtol.validity import check_design_geometry
+
+    check_design_geometry(design)  # both cams, whatever the grid (issue 9)
     fac, variation, est, bands, predicted = _fixture_parts(design, spec, theta)
 
     def evaluate(t: FloatArray) -> dict[str, FloatArray]:

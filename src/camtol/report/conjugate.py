@@ -112,6 +112,11 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
     }
 
 
+#: Fixture columns that may be empty as a whole (all NaN): without a measured Δf, or
+#: without the prediction of Δf_est from known errors.
+OPTIONAL_FIXTURE_COLUMNS = ("df_mea_um", "df_est_pred_um", "dr_A_est_um", "dr_B_est_um")
+
+
 def fixture_curves_columns(
     res: FixtureInspection, *, record: RecordEstimates | None = None
 ) -> dict[str, FloatArray]:
@@ -177,9 +182,11 @@ def write_fixture_curves_csv(
         With an indicator record: adds the columns of u_f and of the estimates at
         Δf_mea ± u_f (see :func:`fixture_curves_columns`). [µm]
     """
+    from camtol.report.finite import require_finite_columns
     from camtol.report.tables import atomic_write_text
 
     cols = fixture_curves_columns(res, record=record)
+    require_finite_columns(cols, optional=OPTIONAL_FIXTURE_COLUMNS, where=str(path))
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)

@@ -208,6 +208,12 @@ def write_profile(
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
     points = profile_points(design, tolerance_mm=tolerance_mm, cutter_radius_mm=cutter_radius_mm)
+    from camtol.report.finite import require_finite
+
+    for c in points.curves:
+        deg = np.degrees(c.theta_rad)
+        require_finite(f"{c.layer} x_mm", c.x_mm, theta_deg=deg, where=str(p))
+        require_finite(f"{c.layer} y_mm", c.y_mm, theta_deg=deg, where=str(p))
     if fmt == "csv":
         data = _csv_text(profile_table(design, points)).encode("utf-8")
     elif fmt == "dxf":

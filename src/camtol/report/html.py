@@ -355,5 +355,9 @@ def write_report(study: Study, path: str | Path) -> Analysis:
         )
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
+    from camtol.report.finite import require_finite_columns
+    from camtol.report.tables import curves_columns
+
+    require_finite_columns(curves_columns(study.analysis), where=str(p))
     atomic_write(p, report_html(study))
     return study.analysis

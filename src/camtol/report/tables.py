@@ -188,7 +188,10 @@ def write_curves_csv(a: Analysis, path: str | Path) -> None:
     path : str or Path
         CSV file to write; replaced if it exists.
     """
+    from camtol.report.finite import require_finite_columns
+
     cols = curves_columns(a)
+    require_finite_columns(cols, where=str(path))
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
