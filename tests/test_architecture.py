@@ -27,6 +27,7 @@ CORE = [
     "iso286.py",
     "analysis.py",
     "contact",
+    "tolerancing",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")
 

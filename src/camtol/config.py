@@ -234,6 +234,8 @@ class DesignSchema(_Strict):
     operation: OperationSchema = OperationSchema()
     # Sections used by other commands (e.g. the conjugate fixture) pass through.
     inspection: dict[str, Any] = {}
+    # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
+    statistics: dict[str, Any] = {}
 
 
 def _format_validation_error(exc: ValidationError, prefix: str = "") -> str:
@@ -411,7 +413,10 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             pressure_angle_limit_deg=top.operation.pressure_angle_limit_deg,
             description=top.description,
             reference=top.reference,
-            extras={"inspection": top.inspection} if top.inspection else {},
+            extras={
+                **({"inspection": top.inspection} if top.inspection else {}),
+                **({"statistics": top.statistics} if top.statistics else {}),
+            },
         )
     except ConfigError:
         raise
