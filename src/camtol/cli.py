@@ -232,6 +232,10 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_tolerancing import allocate, montecarlo
+
+    cli.add_command(montecarlo)
+    cli.add_command(allocate)
 
 
 _register_subcommands()

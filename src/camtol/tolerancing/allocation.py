@@ -23,7 +23,7 @@ import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -187,22 +187,8 @@ def allocate(
 
     rmax = max_radius_mm(design)
     # dev[k, i]: deviation of source k at grade i (internal units).
-    dev = np.array(
-        [
-            [
-                t.deviation
-                for t in _with_grades(design, [k], (g,)).resolve_tolerances(rmax)
-            ]
-            for g in grades
-            for k in [None]
-            for _ in [0]
-        ]
-        if False
-        else [
-            [r.deviation for r in _with_grades(design, keys, (g,) * len(keys)).resolve_tolerances(rmax)]
-            for g in grades
-        ]
-    ).T
+    rows = [_with_grades(design, keys, (g,) * len(keys)).resolve_tolerances(rmax) for g in grades]
+    dev = np.array([[abs(r.deviation) for r in row] for row in rows]).T
     g_all = base.sens["lift"]
     nk = len(keys)
     g = g_all[:, :nk]
@@ -249,7 +235,7 @@ def allocate(
             return float(np.count_nonzero(m <= spec)) / samples
 
         order = np.argsort(cost, kind="stable")
-        failed: list[NDArrayInt] = []
+        failed: list[np.ndarray[Any, np.dtype[np.int64]]] = []
         choice = -1
         for c in order:
             idx = combos[c]
@@ -265,7 +251,7 @@ def allocate(
             failed.append(idx)
         if choice < 0:
             y = yield_of(finest[0])
-            _no_grade(design, keys, grades, g, finest[0], spec, scale, base.unit,
+            _no_grade(base.theta_rad, keys, grades, g, finest[0], spec, scale, base.unit,
                       f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})")
         achieved = yield_of(t_comb[choice])
         fails = {}
@@ -282,7 +268,7 @@ def allocate(
         ok = wc <= spec
         if not ok.any():
             what = "worst case" if criterion == "worst_case" else "RSS"
-            _no_grade(design, keys, grades, g, finest[0], spec, scale, base.unit,
+            _no_grade(base.theta_rad, keys, grades, g, finest[0], spec, scale, base.unit,
                       f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}")
         cand = np.flatnonzero(ok)
         choice = int(cand[np.argmin(cost[cand])])
@@ -320,11 +306,8 @@ def allocate(
     )
 
 
-NDArrayInt = np.ndarray
-
-
 def _no_grade(
-    design: CamDesign,
+    theta_rad: FloatArray,
     keys: list[str],
     grades: tuple[str, ...],
     g: FloatArray,
@@ -341,5 +324,5 @@ def _no_grade(
         f"spec max |dS| <= {spec * scale:g} {unit} cannot be met with grades"
         f" {grades[0]}-{grades[-1]}: with every source at {grades[0]} {achieved};"
         f" source {keys[j]!r} dominates ({part[i, j] * scale:.4g} {unit} at"
-        f" {math.degrees(float(np.linspace(0, 2 * math.pi, g.shape[0])[i])):.1f}°)"
+        f" {math.degrees(float(theta_rad[i])):.1f}°)"
     )
