@@ -1,0 +1,98 @@
+"""Monte Carlo and allocation benchmarks (issue 11): ``python bench/bench_montecarlo.py``.
+
+Targets (this 2-core machine): linear 1e6 samples × 3600 angles × all sources of
+cw06-translating with max |ΔS| and per-angle quantiles ≤ 10 s and ≤ 1 GiB; exact mode
+≥ 1000 samples × 3600 angles per minute for a roller follower; allocation of 5 sources
+over IT5-IT12 ≤ 5 s (worst case / RSS) and ≤ 60 s (Monte Carlo). The fair baselines are
+measured in the same run: the machine's GEMM speed (float32 matrix product of the same
+shape) and memory bandwidth (a large array copy).
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import sys
+import time
+
+import numpy as np
+
+from camtol.config import load_example
+from camtol.design import ToleranceSpec
+from camtol.tolerancing import allocate, monte_carlo
+
+
+def _rss_gib() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+
+
+def machine_speed() -> tuple[float, float]:
+    """(GEMM GFLOP/s of a 3605×4×512 float32 product, copy bandwidth GB/s)."""
+    g = np.random.default_rng(0).standard_normal((3605, 4)).astype(np.float32)
+    x = np.random.default_rng(1).standard_normal((4, 512)).astype(np.float32)
+    out = np.empty((3605, 512), np.float32)
+    reps = 200
+    t = time.perf_counter()
+    for _ in range(reps):
+        np.matmul(g, x, out=out)
+    gemm = 2 * 3605 * 4 * 512 * reps / (time.perf_counter() - t) / 1e9
+    a = np.ones(2**26)
+    b = np.empty_like(a)
+    t = time.perf_counter()
+    for _ in range(5):
+        np.copyto(b, a)
+    bw = 2 * a.nbytes * 5 / (time.perf_counter() - t) / 1e9
+    return gemm, bw
+
+
+def bench_linear(samples: int) -> None:
+    d = load_example("cw06-translating")
+    gemm, bw = machine_speed()
+    workers = os.cpu_count() or 1
+    t = time.perf_counter()
+    r = monte_carlo(d, samples, seed=1, spec=0.022, workers=workers)
+    dt = time.perf_counter() - t
+    n = r.theta_deg.size
+    flops = 2 * 2 * samples * n * 4  # two GEMMs (ΔS and histogram bins), 3 sources + 1
+    bytes_ = 2 * samples * n * 4 * 6  # ~6 float32/int passes over ΔS per sample block
+    scaled = dt * 1e6 / samples
+    print(f"linear: {samples:.0e} samples × {n} angles in {dt:.2f} s on {workers} threads"
+          f" (scaled to 1e6: {scaled:.1f} s, target ≤ 10 s, ratio {scaled / 10:.2f});"
+          f" peak RSS {_rss_gib():.2f} GiB (target ≤ 1 GiB)")
+    print(f"  machine: GEMM {gemm:.1f} GFLOP/s, copy {bw:.1f} GB/s; achieved"
+          f" {flops / dt / 1e9 / gemm:.1%} of GEMM, {bytes_ / dt / 1e9 / bw:.1%} of bandwidth")
+
+
+def bench_exact(samples: int) -> None:
+    d = load_example("roller-translating")
+    t = time.perf_counter()
+    r = monte_carlo(d, samples, mode="exact", seed=1)
+    dt = time.perf_counter() - t
+    rate = samples * r.theta_deg.size / dt * 60
+    print(f"exact: {samples} samples × {r.theta_deg.size} angles in {dt:.2f} s ="
+          f" {rate / 3600:.0f} samples × 3600 angles/min (target ≥ 1000, ratio"
+          f" {rate / 3600 / 1000:.2f})")
+
+
+def bench_allocation() -> None:
+    import dataclasses
+    import math
+
+    d = load_example("roller-oscillating")  # 5 sources: r, n, rf, l, f
+    keys = [s.key for s in d.mechanism.sources]
+    d = dataclasses.replace(d, tolerances=tuple(ToleranceSpec(k, grade="IT7") for k in keys))
+    for crit, samples in (("worst_case", 1), ("rss", 1), ("monte_carlo", 4000)):
+        t = time.perf_counter()
+        a = allocate(d, math.radians(0.05), criterion=crit, samples=samples, verify_samples=20000)
+        dt = time.perf_counter() - t
+        target = 60 if crit == "monte_carlo" else 5
+        print(f"allocation {crit}: {len(keys)} sources × 8 grades in {dt:.2f} s (target ≤"
+              f" {target} s, ratio {dt / target:.2f}); {a.evaluated} combinations;"
+              f" grades {a.grades}")
+
+
+if __name__ == "__main__":
+    quick = "--quick" in sys.argv
+    bench_linear(100_000 if quick else 1_000_000)
+    bench_exact(50 if quick else 200)
+    bench_allocation()
