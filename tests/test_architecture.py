@@ -21,12 +21,18 @@ CORE = [
     "motion.py",
     "mechanisms",
     "design.py",
+    "sources.py",
     "kinematics.py",
     "errors.py",
     "extremes.py",
     "iso286.py",
     "analysis.py",
+    "sizing.py",
+    "tables.py",
+    "grid.py",
     "contact",
+    "manufacturing",
+    "table_noise.py",
     "tolerancing",
 ]
 FORBIDDEN = ("camtol.report", "camtol.cli", "camtol.config", "matplotlib", "ezdxf", "click", "rich")

@@ -206,5 +206,5 @@ def test_plot_at_a_chosen_angle(tmp_path: Path, capsys: pytest.CaptureFixture[st
     bad = tmp_path / "g.svg"
     bad_args = ["analyze", "-e", "cw06-oscillating", "--plot", str(bad), "--plot-angle", "nan"]
     assert main(bad_args) == 2
-    assert "--plot-angle=nan must be a finite number" in capsys.readouterr().err
+    assert "--plot-angle=nan is not allowed; give a cam angle from 0" in capsys.readouterr().err
     assert not bad.exists()

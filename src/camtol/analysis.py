@@ -286,7 +286,8 @@ def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:
         a_max = float(np.max(np.abs(kin.acceleration)))
         notes.append(
             f"the table is rounded to {program.resolution * scale:g}{unit}: rounding alone can"
-            f" change A by up to 2Q/Δθ² = {bound * scale:.4g}{unit}/rad² ([CDH] eq. 10.4),"
+            f" change the spline's A by up to 6Q/Δθ² = {bound * scale:.4g}{unit}/rad²"
+            " (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4),"
             f" against max |A| = {a_max * scale:.4g}{unit}/rad²"
             + (
                 "; ΔV and ΔA are NOT reliable at this precision: tabulate with more decimals"

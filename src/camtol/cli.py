@@ -21,7 +21,16 @@ import click
 from camtol import __version__
 from camtol.exceptions import CamtolError
 
-__all__ = ["main", "cli", "load_input", "run_guarded", "EXIT_OK", "EXIT_FAIL", "EXIT_USAGE"]
+__all__ = [
+    "main",
+    "cli",
+    "analyse_with_hint",
+    "load_input",
+    "run_guarded",
+    "EXIT_OK",
+    "EXIT_FAIL",
+    "EXIT_USAGE",
+]
 
 EXIT_OK = 0
 EXIT_FAIL = 1
@@ -104,6 +113,35 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
     return EXIT_OK if code is None else code
 
 
+def analyse_with_hint(design: Any, *, step_deg: float) -> Any:
+    """Analyse a design; an undercut or pressure-angle failure says which base radius works.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    step_deg : float
+        Grid step. [deg]
+
+    Returns
+    -------
+    Analysis
+        As :func:`camtol.analysis.analyse`.
+    """
+    from camtol.analysis import analyse
+    from camtol.exceptions import GeometryError
+
+    try:
+        return analyse(design, step_deg=step_deg)
+    except GeometryError as exc:
+        from camtol.cli_size import sizing_hint
+
+        hint = sizing_hint(design)
+        if hint is None:
+            raise
+        raise type(exc)(f"{exc}; {hint}") from None
+
+
 def design_options(f: F) -> F:
     """Add the DESIGN argument and --example option."""
     f = click.option(
@@ -125,7 +163,13 @@ def cli() -> None:
 @cli.command()
 @design_options
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -162,20 +206,31 @@ def analyze(
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
-        if plot_angle_deg is not None and not math.isfinite(plot_angle_deg):
-            fail(f"--plot-angle={plot_angle_deg!r} must be a finite number of degrees")
-        from camtol.analysis import analyse
+        if plot_angle_deg is not None:
+            if plot is None:
+                fail("--plot-angle draws on the figure: give --plot FILE.png as well")
+            if not (math.isfinite(plot_angle_deg) and 0.0 <= plot_angle_deg < 360.0):
+                fail(
+                    f"--plot-angle={plot_angle_deg!r} is not allowed; give a cam angle from 0"
+                    " up to (not including) 360 degrees"
+                )
         from camtol.report import tables
 
-        a = analyse(load_input(design, example), step_deg=step_deg)
+        a = analyse_with_hint(load_input(design, example), step_deg=step_deg)
+        written = []
         if curves:
             tables.write_curves_csv(a, curves)
+            written.append(curves)
         if plot:
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
+            written.append(plot)
         if as_json:
             click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
         elif not quiet:
             tables.print_analysis(a)
+        if not quiet:
+            for path in written:  # on stderr with --json, so stdout stays one JSON document
+                click.echo(f"wrote {path}", err=as_json)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
@@ -232,6 +287,14 @@ def _register_subcommands() -> None:
     from camtol.cli_verify import verify
 
     cli.add_command(verify)
+    from camtol.cli_manufacturing import cut, derive, precision
+
+    cli.add_command(precision)
+    cli.add_command(cut)
+    cli.add_command(derive)
+    from camtol.cli_size import size
+
+    cli.add_command(size)
     from camtol.cli_tolerancing import allocate, montecarlo
 
     cli.add_command(montecarlo)

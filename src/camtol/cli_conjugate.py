@@ -56,7 +56,13 @@ __all__ = ["conjugate"]
     help="Known radial error of master cam B (µm), as for --df-mea.",
 )
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -31,9 +32,10 @@ __all__ = ["profile", "report"]
     "--output",
     "-o",
     "output",
-    metavar="FILE",
+    metavar="FILE.csv|.dxf|.svg|.nc",
     required=True,
-    help="Output file; the suffix chooses the format: .csv, .dxf or .svg.",
+    help="Output file; the suffix chooses the format: .csv, .dxf, .svg, or G-code (.nc, .ngc,"
+    " .tap: the cutter-centre path, needs --cutter-radius or --wire-radius).",
 )
 @click.option(
     "--tolerance",
@@ -41,6 +43,7 @@ __all__ = ["profile", "report"]
     type=float,
     default=0.1,
     show_default=True,
+    metavar="UM",
     help="Largest deviation of a polyline chord from the analytic profile [µm].",
 )
 @click.option(
@@ -51,6 +54,18 @@ __all__ = ["profile", "report"]
     metavar="MM",
     help="Also write the cutter-centre path for a cutter of this radius [mm].",
 )
+@click.option(
+    "--gcode", "gcode_mode", type=click.Choice(["arcs", "lines"]), default="arcs",
+    show_default=True, help="G-code output: G02/G03 biarcs or G01 chords.",
+)  # fmt: skip
+@click.option(
+    "--wire-radius", "wire_radius_mm", type=float, default=None, metavar="MM",
+    help="G-code for wire EDM: wire radius [mm] (offset = wire radius + spark gap).",
+)  # fmt: skip
+@click.option(
+    "--spark-gap", "spark_gap_mm", type=float, default=0.0, show_default=True, metavar="MM",
+    help="Wire-EDM spark gap (overcut per side) [mm].",
+)  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
 def profile(
@@ -59,21 +74,32 @@ def profile(
     output: str,
     tolerance_um: float,
     cutter_radius_mm: float | None,
+    gcode_mode: str,
+    wire_radius_mm: float | None,
+    spark_gap_mm: float,
     as_json: bool,
     quiet: bool,
 ) -> None:
     """Export the cam profile for CAD/CAM (CSV, DXF or SVG, chosen by the suffix of -o).
 
     The polylines' vertices lie on the analytic profile and every chord deviates from it
-    by less than --tolerance. DXF layers: CAM_PROFILE, PITCH_CURVE (roller followers),
-    CUTTER_PATH (with --cutter-radius); a conjugate pair has CAM_A_* and CAM_B_* layers.
+    by less than --tolerance. DXF layers: CAM_PROFILE, CAM_PITCH_CURVE (roller followers),
+    CAM_CUTTER_PATH (with --cutter-radius), CAM_CENTRE; a conjugate pair has CAM_A_* and
+    CAM_B_* layers.
     Coordinates in mm in the cam frame (origin at the cam pivot).
     """
 
     def body() -> int:
         from camtol.report.export import EXPORT_SUFFIXES, write_profile
 
-        check_output_path(output, "--output", list(EXPORT_SUFFIXES))
+        if Path(output).suffix.lower() in GCODE_SUFFIXES:
+            return _write_gcode(
+                load_input, design, example, output, tolerance_um, cutter_radius_mm,
+                gcode_mode, wire_radius_mm, spark_gap_mm, as_json, quiet,
+            )  # fmt: skip
+        if wire_radius_mm is not None:
+            fail("--wire-radius is only allowed for G-code output (-o FILE.nc)")
+        check_output_path(output, "--output", list(EXPORT_SUFFIXES) + list(GCODE_SUFFIXES))
         if not (tolerance_um > 0):
             fail(f"--tolerance={tolerance_um:g} is not allowed; give a positive value in µm")
         if cutter_radius_mm is not None and not (cutter_radius_mm > 0):
@@ -115,13 +141,82 @@ def profile(
     raise _Exit(run_guarded(body))
 
 
+#: Output suffixes written as G-code by ``camtol profile``.
+GCODE_SUFFIXES: tuple[str, ...] = (".nc", ".ngc", ".tap")
+
+
+def _write_gcode(
+    load: Any,
+    design: str | None,
+    example: str | None,
+    output: str,
+    tolerance_um: float,
+    cutter_radius_mm: float | None,
+    mode: Any,
+    wire_radius_mm: float | None,
+    spark_gap_mm: float,
+    as_json: bool,
+    quiet: bool,
+) -> int:
+    """``camtol profile -o cam.nc``: the cutter-centre path as G-code (THEORY §6)."""
+    from camtol.manufacturing.gcode import write_gcode
+    from camtol.report.files import atomic_write
+
+    check_output_path(output, "--output", list(GCODE_SUFFIXES))
+    if (cutter_radius_mm is None) == (wire_radius_mm is None):
+        fail("G-code output needs exactly one of --cutter-radius MM or --wire-radius MM")
+    if not (tolerance_um > 0):
+        fail(f"--tolerance={tolerance_um:g} is not allowed; give a positive value in µm")
+    for flag, val in (
+        ("--cutter-radius", cutter_radius_mm),
+        ("--wire-radius", wire_radius_mm),
+        ("--spark-gap", spark_gap_mm),
+    ):
+        if val is not None and not (val >= 0 and val == val and val != float("inf")):
+            fail(f"{flag}={val:g} is not allowed; give a length ≥ 0 in mm")
+    prog = write_gcode(
+        load(design, example),
+        tool_radius_mm=cutter_radius_mm,
+        tolerance_mm=tolerance_um * 1e-3,
+        mode=mode,
+        wire_radius_mm=wire_radius_mm,
+        spark_gap_mm=spark_gap_mm,
+    )
+    atomic_write(output, prog.text)
+    if as_json:
+        doc = {
+            "path": str(output),
+            "format": "gcode",
+            "mode": prog.mode,
+            "tolerance_um": prog.tolerance_mm * 1e3,
+            "tool_radius_mm": prog.tool_radius_mm,
+            "blocks": prog.blocks,
+            "max_fit_deviation_um": prog.max_fit_deviation_mm * 1e3,
+        }
+        click.echo(json.dumps(doc, indent=2, default=_json_default))
+    elif not quiet:
+        click.echo(
+            f"G-code ({prog.mode}): {prog.blocks} blocks, cutter-path offset"
+            f" {prog.tool_radius_mm:g} mm, fit within {prog.max_fit_deviation_mm * 1e3:.3g} µm"
+            f" (tolerance {prog.tolerance_mm * 1e3:g} µm)"
+        )
+        click.echo(f"wrote {output}")
+    return EXIT_OK
+
+
 @click.command()
 @design_options
 @click.option(
     "--output", "-o", "output", metavar="FILE.html", required=True, help="Report file (.html)."
 )
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")

@@ -88,7 +88,13 @@ def _print_summary(v: object) -> None:
 @click.command()
 @design_options
 @click.option(
-    "--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid step [deg]."
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--no-polyline", is_flag=True, help="Skip the exported-polyline check (faster).")

@@ -62,6 +62,7 @@ from camtol.motion import (
     SegmentProgram,
     table_resolution,
 )
+from camtol.sources import DESIGN_SOURCES
 from camtol.tables import read_table
 
 if sys.version_info >= (3, 11):
@@ -344,6 +345,7 @@ def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec,
     specs = []
     seen: set[str] = set()
     units = {s.key: s.unit for s in mech.sources}
+    units.update({k: d.source.unit for k, d in DESIGN_SOURCES.items()})
     allowed = ", ".join(
         f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}" for k, u in units.items()
     )

@@ -8,15 +8,17 @@ degrees and reads the result in thousandths of a degree (not defined by ISO 286)
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 from camtol import iso286
 from camtol.exceptions import DesignError
-from camtol.mechanisms.base import Mechanism
+from camtol.mechanisms.base import ErrorSource, Mechanism
 from camtol.motion import MotionProgram
+from camtol.sources import DESIGN_SOURCES
 
-__all__ = ["CamDesign", "ResolvedTolerance", "ToleranceSpec", "IT_CONVENTIONS"]
+__all__ = ["Cam", "CamDesign", "ResolvedTolerance", "ToleranceSpec", "IT_CONVENTIONS"]
 
 #: The conventions camtol states wherever IT grades are used (THEORY §3.6).
 IT_CONVENTIONS: tuple[str, ...] = (
@@ -118,7 +120,7 @@ class CamDesign:
     extras: dict[str, object] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
-        keys = {s.key for s in self.mechanism.sources}
+        keys = {s.key for s in self.sources}
         for t in self.tolerances:
             if t.key not in keys:
                 raise DesignError(
@@ -129,6 +131,65 @@ class CamDesign:
             math.isfinite(self.speed_rpm) and self.speed_rpm > 0
         ):
             raise DesignError(f"operation.speed_rpm={self.speed_rpm:g} must be > 0")
+
+    @property
+    def sources(self) -> tuple[ErrorSource, ...]:
+        """Every error source of the design: the follower's, then the design-level ones.
+
+        Design-level sources (:mod:`camtol.sources`, e.g. the cam's angular phase) belong
+        to the cam's mounting, not to the follower.
+        """
+        return self.mechanism.sources + tuple(d.source for d in DESIGN_SOURCES.values())
+
+    def source(self, key: str) -> ErrorSource:
+        """Return the error source with this key (follower or design level).
+
+        Parameters
+        ----------
+        key : str
+            Tolerance key, e.g. ``"r"`` or ``"phase"``.
+
+        Returns
+        -------
+        ErrorSource
+            The source.
+
+        Raises
+        ------
+        KeyError
+            If the design has no such source.
+        """
+        for s in self.sources:
+            if s.key == key:
+                return s
+        raise KeyError(key)
+
+    def cams(self) -> tuple[Cam, ...]:
+        """Return the single-contact cams of the design (one, or A and B of a pair).
+
+        Each :class:`Cam` carries a single-contact design with the same program, speed
+        and limits, and the tolerances whose keys that cam has. An ordinary design's only
+        cam is the design itself (label ``""``).
+
+        Returns
+        -------
+        tuple of Cam
+            In the mechanism's order (A before B).
+        """
+        out = []
+        for label, mech in self.mechanism.cams():
+            if mech is self.mechanism:
+                out.append(Cam(label, mech, self))
+                continue
+            keys = {s.key for s in mech.sources} | set(DESIGN_SOURCES)
+            design = dataclasses.replace(
+                self,
+                name=f"{self.name} ({label})" if label else self.name,
+                mechanism=mech,
+                tolerances=tuple(t for t in self.tolerances if t.key in keys),
+            )
+            out.append(Cam(label, mech, design))
+        return tuple(out)
 
     def describe_motion(self) -> str:
         """Describe the motion program in file units (mm, or degrees when oscillating)."""
@@ -157,7 +218,7 @@ class CamDesign:
         """
         out = []
         for spec in self.tolerances:
-            src = self.mechanism.source(spec.key)
+            src = self.source(spec.key)
             if spec.deviation is not None:
                 if src.unit == "mm":
                     dev, origin = spec.deviation * 1e-3, f"{spec.deviation:g} µm (given)"
@@ -165,8 +226,12 @@ class CamDesign:
                     dev, origin = math.radians(spec.deviation), f"{spec.deviation:g}° (given)"
             else:
                 assert spec.grade is not None
-                nominal = self.mechanism.nominal_size(spec.key, max_radius_mm)
                 try:
+                    dsrc = DESIGN_SOURCES.get(spec.key)
+                    if dsrc is None:
+                        nominal = self.mechanism.nominal_size(spec.key, max_radius_mm)
+                    else:
+                        nominal = dsrc.nominal_size(self.mechanism, max_radius_mm)
                     if src.unit == "mm":
                         um = iso286.tolerance_um(spec.grade, nominal)
                         dev = um * 1e-3
@@ -183,3 +248,23 @@ class CamDesign:
                     ) from None
             out.append(ResolvedTolerance(spec.key, dev, src.unit, origin))
         return tuple(out)
+
+
+@dataclass(frozen=True)
+class Cam:
+    """One single-contact cam of a design (see :meth:`CamDesign.cams`).
+
+    Attributes
+    ----------
+    label : str
+        ``""`` for an ordinary cam, ``"A"`` or ``"B"`` for the cams of a conjugate pair.
+    mechanism : Mechanism
+        The single-contact follower mechanism of this cam.
+    design : CamDesign
+        The single-contact design of this cam: same program, speed and limits; the
+        tolerances whose keys this cam has.
+    """
+
+    label: str
+    mechanism: Mechanism
+    design: CamDesign

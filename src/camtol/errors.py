@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.jet import FloatArray, Jet, JetLike
+from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["ErrorAnalysis", "SourceError", "error_analysis"]
 
@@ -66,7 +67,8 @@ class ErrorAnalysis:
     left_limit : ndarray of bool
         Rows holding left limits at segment boundaries.
     sources : dict of str to SourceError
-        In the mechanism's source order.
+        In the order of the tolerances; design-level sources (:mod:`camtol.sources`)
+        included.
     worst_lift, worst_velocity, worst_acceleration : ndarray
         Σ_p |ΔS_p|, Σ_p |ΔV_p|, Σ_p |ΔA_p|. [output unit per rad^k]
     rms_lift, rms_velocity, rms_acceleration : ndarray
@@ -132,13 +134,16 @@ def error_analysis(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     motion = design.program.evaluate(theta, left_limit=left)
-    sens = design.mechanism.error_sensitivities(
-        Jet.variable(theta),
-        Jet(motion.lift, motion.velocity, motion.acceleration),
-        Jet(motion.velocity, motion.acceleration, motion.jerk),
-    )
+    theta_j = Jet.variable(theta)
+    lift_j = Jet(motion.lift, motion.velocity, motion.acceleration)
+    velocity_j = Jet(motion.velocity, motion.acceleration, motion.jerk)
+    sens = design.mechanism.error_sensitivities(theta_j, lift_j, velocity_j)
     sources: dict[str, SourceError] = {}
     for tol in tolerances:
+        if tol.key not in sens:  # a design-level source (camtol.sources)
+            sens[tol.key] = DESIGN_SOURCES[tol.key].sensitivity(
+                design.mechanism, theta_j, lift_j, velocity_j
+            )
         s = _as_jet(sens[tol.key], theta)
         d = tol.deviation
         sources[tol.key] = SourceError(tol.key, d, s.v * d, s.d1 * d, s.d2 * d, s.v)

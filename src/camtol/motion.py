@@ -497,7 +497,7 @@ class LiftTable(MotionProgram):
 
     The lifts are interpolated by a periodic cubic spline (scipy); V, A and J are the
     spline's derivatives. Those derivatives depend on the table's precision: rounding the
-    table to a quantum Q perturbs A by up to about 4·(Q/2)/Δθ² (THEORY §6.1). J is
+    table to a quantum Q perturbs A by up to 6Q/Δθ² (THEORY §6.1). J is
     piecewise constant and jumps at every tabulated angle.
 
     Parameters
@@ -562,15 +562,19 @@ class LiftTable(MotionProgram):
 
     @property
     def acceleration_noise_bound(self) -> float | None:
-        """Largest change of A that rounding to :attr:`resolution` can cause (THEORY §6.1).
+        """Largest change of the spline's A that rounding to :attr:`resolution` can cause.
 
-        Alternating deviations of ±Q/2 at the tabulated points change the second
-        difference by up to 4·(Q/2)/Δθ² = 2Q/Δθ² ([CDH] eq. 10.4). ``None`` without a
-        resolution. [mm/rad², or rad/rad²]
+        Exact for the interpolant used (THEORY §6.1, :mod:`camtol.table_noise`): deviations
+        |d_i| ≤ Q/2 change A by at most ‖G‖∞·(Q/2)/Δθ² = 6Q/Δθ² (even N), attained by
+        alternating ±Q/2; three times the second-difference bound 2Q/Δθ² ([CDH] eq. 10.4).
+        ``None`` without a resolution. [mm/rad², or rad/rad²]
         """
         if self.resolution is None:
             return None
-        return 2.0 * self.resolution / self.step_rad**2
+        from camtol.table_noise import spline_acceleration_gain
+
+        gain = spline_acceleration_gain(self.theta_rad.size)
+        return gain * 0.5 * self.resolution / self.step_rad**2
 
     def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
         """Return S, V, A, J from the periodic spline.

@@ -10,9 +10,10 @@ Three checks, each against exact contact geometry (no linearisation, no stepping
    on it must fall short of S(θ) by the chordal sag of each chord times the output's
    sensitivity to a normal profile error (THEORY §3), no more and no less.
 3. Linearisation: every toleranced error source of the design is applied at its
-   tolerance to the shape (Δr, Δn: an analytic profile with the error) or to the follower
-   (e, φ, f, l, r_f: a perturbed follower on the nominal profile, S measured from the
-   nominal zero), the perturbed mechanism is re-simulated exactly, and the exact ΔS is
+   tolerance to the shape (Δr, Δn: an analytic profile with the error), to the follower
+   (e, φ, f, l, r_f: :meth:`~camtol.mechanisms.base.Mechanism.perturbed` on the nominal
+   profile, S measured from the nominal zero) or to the design (design-level sources of
+   :mod:`camtol.sources`, e.g. the cam's angular phase), re-simulated exactly, and the exact ΔS is
    compared with the closed form ΔS_p of THEORY §3. Repeating at half the tolerance
    shows the difference is of second order (it falls by about 4).
 
@@ -36,7 +37,7 @@ from camtol.design import CamDesign, ResolvedTolerance
 from camtol.errors import error_analysis
 from camtol.jet import FloatArray, Jet
 from camtol.kinematics import analysis_grid, kinematics
-from camtol.mechanisms.base import Mechanism
+from camtol.sources import DESIGN_SOURCES
 
 if TYPE_CHECKING:
     from camtol.inspection.fixture import FixtureErrors
@@ -56,19 +57,6 @@ ROUNDTRIP_LIMIT = 1e-9
 LINEAR_FRACTION_LIMIT = 0.01
 #: A difference below this fraction of max |linear| means "linear to rounding".
 EXACT_FRACTION = 1e-8
-
-#: Follower parameter perturbed for each tolerance key, per mechanism kind.
-PARAMETERS: dict[str, dict[str, str]] = {
-    "flat_translating": {"e": "offset_mm", "phi": "face_angle_rad"},
-    "flat_oscillating": {"f": "pivot_distance_mm", "e": "face_offset_mm"},
-    "roller_translating": {"rf": "roller_radius_mm", "e": "offset_mm"},
-    "roller_oscillating": {
-        "rf": "roller_radius_mm",
-        "l": "arm_length_mm",
-        "f": "pivot_distance_mm",
-    },
-    "conjugate": {"rf": "roller_radius_mm", "l": "arm_a_mm", "f": "pivot_distance_mm"},
-}
 
 
 @dataclass(frozen=True)
@@ -241,9 +229,11 @@ def _nominal_shape(design: CamDesign) -> AnalyticShape:
     return AnalyticShape(design.mechanism, design.program)
 
 
-def _perturbed(mech: Mechanism, key: str, delta: float) -> Mechanism:
-    name = PARAMETERS[mech.kind][key]
-    return dataclasses.replace(mech, **{name: getattr(mech, name) + delta})  # type: ignore[type-var]
+def _exactly_simulable(design: CamDesign, key: str) -> bool:
+    """Tell whether ``key`` can be re-simulated exactly (profile, parameter, design)."""
+    if key in ("r", "n") or key in DESIGN_SOURCES:
+        return True
+    return any(s.key == key and s.parameter is not None for s in design.mechanism.sources)
 
 
 def _exact_delta(
@@ -256,6 +246,10 @@ def _exact_delta(
 ) -> FloatArray:
     """Exact ΔS of one source at ``deviation`` (internal units)."""
     mech = design.mechanism
+    dsrc = DESIGN_SOURCES.get(key)
+    if dsrc is not None:
+        lift = dsrc.exact_lift(mech, design.program, theta, deviation, left_limit=left)
+        return np.asarray(lift - nominal_lift)
     if key in ("r", "n"):
         err = FourierError(deviation)
         shape = AnalyticShape(
@@ -269,7 +263,7 @@ def _exact_delta(
         res = follow(
             theta,
             _nominal_shape(design),
-            _perturbed(mech, key, deviation),
+            mech.perturbed(key, deviation),
             reference=mech,
             left_limit=left,
         )
@@ -294,7 +288,7 @@ def _linearisation(
     notes: list[str] = []
     for tol in tolerances:
         key = tol.key
-        if key not in ("r", "n") and key not in PARAMETERS.get(design.mechanism.kind, {}):
+        if not _exactly_simulable(design, key):
             notes.append(f"source {key!r} has no exact re-simulation; not checked")
             continue
         lin = error_analysis(design, (tol,), theta, left_limit=left).sources[key].delta_lift

@@ -83,9 +83,8 @@ class TestConjugateCamBContract(OscillatingRollerContract):
     designs = cam_b_designs()
     deltas = {"eta": 1e-6}
 
-    def beta(self, mech: Any, theta: FArr, xi: FArr, key: str, delta: float) -> FArr:
-        eta = mech.arm_angle_rad + (delta if key == "eta" else 0.0)
-        return theta + eta - xi  # cam B: arm at θ + 180° + η − ξ
+    def beta(self, mech: Any, theta: FArr, xi: FArr) -> FArr:
+        return theta + mech.arm_angle_rad - xi  # cam B: arm at θ + 180° + η − ξ
 
     def lambda_special(self, mech: Any, theta: FArr, lift: FArr, vel: FArr, g: Any) -> FArr:
         # CW11 eq. 13 / THEORY §2.5 write sin λ_B = q sin α_B/|O2B| with α_B measured

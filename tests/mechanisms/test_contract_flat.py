@@ -38,13 +38,12 @@ class TestFlatTranslatingContract(MechanismContract):
     )
     pressure_sign = 1.0
 
-    def element(self, mech: Any, theta: FArr, s: FArr, key: str, delta: float) -> Element:
+    def element(self, mech: Any, nominal: Any, theta: FArr, s: FArr) -> Element:
         # Reference point P = e·w + L·t on the face, L = L0 + S with the nominal L0 as the
         # follower's datum; the face turns about P when φ changes (THEORY §2.1).
-        phi0, e0 = mech.face_angle_rad, mech.offset_mm
-        phi = phi0 + (delta if key == "phi" else 0.0)
-        e = e0 + (delta if key == "e" else 0.0)
-        big_l = mech.base_radius_mm / math.cos(phi0) - e0 * math.tan(phi0) + s
+        phi0, e0 = nominal.face_angle_rad, nominal.offset_mm
+        phi, e = mech.face_angle_rad, mech.offset_mm
+        big_l = nominal.base_radius_mm / math.cos(phi0) - e0 * math.tan(phi0) + s
         c, sn = np.cos(theta), np.sin(theta)
         px, py = -e * sn + big_l * c, e * c + big_l * sn
         nx, ny = np.cos(theta + phi), np.sin(theta + phi)
@@ -72,10 +71,9 @@ class TestFlatOscillatingContract(MechanismContract):
     def position(self, mech: Any, lift: FArr) -> FArr:
         return mech.initial_angle_rad + lift
 
-    def element(self, mech: Any, theta: FArr, s: FArr, key: str, delta: float) -> Element:
+    def element(self, mech: Any, nominal: Any, theta: FArr, s: FArr) -> Element:
         # face normal at ψ = θ + 90° − ξ, face at distance e from O3 = f·(cos θ, sin θ)
-        f = mech.pivot_distance_mm + (delta if key == "f" else 0.0)
-        e = mech.face_offset_mm + (delta if key == "e" else 0.0)
+        f, e = mech.pivot_distance_mm, mech.face_offset_mm
         psi = theta + math.pi / 2 - s
         nx, ny = np.cos(psi), np.sin(psi)
         return Element("face", nx, ny, f * (np.cos(theta) * nx + np.sin(theta) * ny) + e)

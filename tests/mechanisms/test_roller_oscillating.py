@@ -53,17 +53,13 @@ class OscillatingRollerContract(MechanismContract):
     def position(self, mech: Any, lift: FArr) -> FArr:
         return mech.initial_angle_rad + lift
 
-    def arm(self, mech: Any, key: str, delta: float) -> float:
-        return float(mech.arm_length_mm) + (delta if key == "l" else 0.0)
-
-    def beta(self, mech: Any, theta: FArr, xi: FArr, key: str, delta: float) -> FArr:
+    def beta(self, mech: Any, theta: FArr, xi: FArr) -> FArr:
         return theta - xi  # cam A: arm at θ + 180° − ξ
 
-    def element(self, mech: Any, theta: FArr, s: FArr, key: str, delta: float) -> Element:
-        f = mech.pivot_distance_mm + (delta if key == "f" else 0.0)
-        r = mech.roller_radius_mm + (delta if key == "rf" else 0.0)
-        beta = self.beta(mech, theta, s, key, delta)
-        arm = self.arm(mech, key, delta)
+    def element(self, mech: Any, nominal: Any, theta: FArr, s: FArr) -> Element:
+        # s is the absolute follower angle ξ: no datum from the nominal mechanism needed
+        f, r, arm = mech.pivot_distance_mm, mech.roller_radius_mm, mech.arm_length_mm
+        beta = self.beta(mech, theta, s)
         return Element(
             "roller",
             f * np.cos(theta) - arm * np.cos(beta),

@@ -41,11 +41,10 @@ class TestRollerTranslatingContract(MechanismContract):
     designs = designs
     pressure_sign = -1.0
 
-    def element(self, mech: Any, theta: FArr, s: FArr, key: str, delta: float) -> Element:
-        e = mech.offset_mm + (delta if key == "e" else 0.0)
-        r = mech.roller_radius_mm + (delta if key == "rf" else 0.0)
+    def element(self, mech: Any, nominal: Any, theta: FArr, s: FArr) -> Element:
+        e, r = mech.offset_mm, mech.roller_radius_mm
         c, sn = np.cos(theta), np.sin(theta)
-        axial = mech.s0_mm + s  # the nominal s0 is the follower's fixed datum
+        axial = nominal.s0_mm + s  # the nominal s0 is the follower's fixed datum
         return Element("roller", -e * sn + axial * c, e * c + axial * sn, r)
 
     def follower_velocity(self, mech: Any, theta: FArr, g: Any) -> tuple[FArr, FArr]:

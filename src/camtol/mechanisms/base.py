@@ -8,6 +8,7 @@ to each error source (THEORY §3): ΔS_p = sensitivity_p · Δp.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -45,11 +46,17 @@ class ErrorSource:
         What the deviation is, e.g. "radial profile error Δr".
     unit : {"mm", "rad"}
         Internal unit of the deviation Δp.
+    parameter : str or None
+        Name of the mechanism's dataclass field that this source perturbs (a follower
+        dimension, e.g. ``"roller_radius_mm"``), or None for sources that are not a
+        parameter of the mechanism (profile errors ``r``, ``n``; design-level sources of
+        :mod:`camtol.sources`). :meth:`Mechanism.perturbed` uses it.
     """
 
     key: str
     description: str
     unit: SourceUnit
+    parameter: str | None = None
 
 
 @dataclass(frozen=True)
@@ -264,6 +271,59 @@ class Mechanism(ABC):
     def output_unit(self) -> str:
         """Internal unit of the follower output S: ``"mm"`` or ``"rad"``."""
         return "mm" if self.output == "translating" else "rad"
+
+    def perturbed(self, source: str, delta: float) -> Mechanism:
+        """Return a copy with the follower parameter behind error source ``source`` moved.
+
+        This is how an error source is applied exactly (``camtol verify``, Monte Carlo in
+        exact mode): the copy is re-simulated by the contact engine on the nominal cam,
+        with the nominal mechanism as reference for S = 0 (THEORY §5).
+
+        Parameters
+        ----------
+        source : str
+            Error-source key whose :attr:`ErrorSource.parameter` names a field.
+        delta : float
+            Deviation Δp added to that field. [mm, or rad for an angle]
+
+        Returns
+        -------
+        Mechanism
+            A validated copy of the same type.
+
+        Raises
+        ------
+        DesignError
+            If ``source`` is not an error source of this follower or is not a follower
+            parameter (profile errors ``r``, ``n``), naming the sources that are.
+        """
+        from camtol.exceptions import DesignError
+
+        allowed = ", ".join(s.key for s in self.sources if s.parameter is not None)
+        src = next((s for s in self.sources if s.key == source), None)
+        if src is None or src.parameter is None:
+            what = "is not an error source" if src is None else "is not a follower parameter"
+            raise DesignError(
+                f"source {source!r} {what} of a {self.kind} follower; perturbed() takes one"
+                f" of: {allowed or '(none)'}"
+            )
+        return dataclasses.replace(  # type: ignore[type-var]
+            self, **{src.parameter: getattr(self, src.parameter) + delta}
+        )
+
+    def cams(self) -> tuple[tuple[str, Mechanism], ...]:
+        """Return the single-contact cams this mechanism stands for: (label, mechanism).
+
+        One unlabelled cam (``("", self)``) for an ordinary follower; a conjugate pair
+        returns its cams ``"A"`` and ``"B"``. :meth:`camtol.design.CamDesign.cams` builds
+        on it.
+
+        Returns
+        -------
+        tuple of (str, Mechanism)
+            Label (``""``, or ``"A"``/``"B"``) and the single-contact mechanism.
+        """
+        return (("", self),)
 
     def source(self, key: str) -> ErrorSource:
         """Return the error source with this key.

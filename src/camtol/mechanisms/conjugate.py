@@ -87,10 +87,10 @@ class ConjugateCamB(RollerMechanism):
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr_B", "mm"),
         ErrorSource("n", "normal profile error Δn_B", "mm"),
-        ErrorSource("rf", "roller-radius error Δr_rD", "mm"),
-        ErrorSource("l", "arm-length error Δl_B", "mm"),
-        ErrorSource("f", "pivot-distance error Δf", "mm"),
-        ErrorSource("eta", "arm-angle error Δη", "rad"),
+        ErrorSource("rf", "roller-radius error Δr_rD", "mm", "roller_radius_mm"),
+        ErrorSource("l", "arm-length error Δl_B", "mm", "arm_length_mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
+        ErrorSource("eta", "arm-angle error Δη", "rad", "arm_angle_rad"),
     )
     side: ClassVar[int] = 1
 
@@ -206,7 +206,14 @@ class ConjugatePair(Mechanism):
 
     kind: ClassVar[str] = "conjugate"
     output: ClassVar[OutputKind] = "oscillating"
-    sources: ClassVar[tuple[ErrorSource, ...]] = RollerOscillating.sources
+    #: Cam A's sources; ``rf`` is roller C, ``l`` arm A (the pair stands for cam A).
+    sources: ClassVar[tuple[ErrorSource, ...]] = (
+        ErrorSource("r", "radial profile error Δr", "mm"),
+        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
+        ErrorSource("l", "arm-length error Δl", "mm", "arm_a_mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
+    )
 
     def __post_init__(self) -> None:
         require_positive("follower.arm_b_mm", self.arm_b_mm)
@@ -218,6 +225,33 @@ class ConjugatePair(Mechanism):
                 " the angle η between the arms must lie strictly between 0 and 180"
             )
         self.cam_a  # validates cam A's dimensions  # noqa: B018
+
+    def perturbed(self, source: str, delta: float) -> Mechanism:
+        """Return a copy with a source of cam A moved (see :meth:`Mechanism.perturbed`).
+
+        ``rf`` is roller C alone: when r_D defaults to r_C it is pinned at the nominal
+        value, so that cam B's roller does not move with it. ``f`` moves the shared pivot.
+
+        Parameters
+        ----------
+        source : str
+            ``"rf"``, ``"l"`` (arm A) or ``"f"``.
+        delta : float
+            Deviation added to that dimension. [mm]
+
+        Returns
+        -------
+        ConjugatePair
+            The perturbed pair.
+        """
+        out = super().perturbed(source, delta)
+        if source == "rf" and self.roller_b_radius_mm is None:
+            out = dataclasses.replace(out, roller_b_radius_mm=self.roller_radius_mm)  # type: ignore[type-var]
+        return out
+
+    def cams(self) -> tuple[tuple[str, Mechanism], ...]:
+        """Cam A (:attr:`cam_a`) and cam B (:attr:`cam_b`), labelled ``"A"`` and ``"B"``."""
+        return (("A", self.cam_a), ("B", self.cam_b))
 
     @property
     def roller_d_mm(self) -> float:

@@ -77,8 +77,8 @@ class FlatOscillating(Mechanism):
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
-        ErrorSource("f", "pivot-distance error Δf", "mm"),
-        ErrorSource("e", "face-offset error Δe", "mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
+        ErrorSource("e", "face-offset error Δe", "mm", "face_offset_mm"),
     )
 
     def __post_init__(self) -> None:

@@ -71,8 +71,8 @@ class FlatTranslating(Mechanism):
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
-        ErrorSource("e", "offset error Δe", "mm"),
-        ErrorSource("phi", "face-angle error Δφ", "rad"),
+        ErrorSource("e", "offset error Δe", "mm", "offset_mm"),
+        ErrorSource("phi", "face-angle error Δφ", "rad", "face_angle_rad"),
     )
 
     def __post_init__(self) -> None:

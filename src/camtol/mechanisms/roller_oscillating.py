@@ -223,9 +223,9 @@ class RollerOscillating(RollerMechanism):
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
-        ErrorSource("rf", "roller-radius error Δr_f", "mm"),
-        ErrorSource("l", "arm-length error Δl", "mm"),
-        ErrorSource("f", "pivot-distance error Δf", "mm"),
+        ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
+        ErrorSource("l", "arm-length error Δl", "mm", "arm_length_mm"),
+        ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
     )
     #: −1: the arm of cam A (THEORY §2.4).
     side: ClassVar[int] = -1

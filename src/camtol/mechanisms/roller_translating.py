@@ -92,8 +92,8 @@ class RollerTranslating(RollerMechanism):
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
-        ErrorSource("rf", "roller-radius error Δr_f", "mm"),
-        ErrorSource("e", "offset error Δe", "mm"),
+        ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
+        ErrorSource("e", "offset error Δe", "mm", "offset_mm"),
     )
 
     def __post_init__(self) -> None:

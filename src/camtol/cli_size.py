@@ -1,0 +1,180 @@
+"""``camtol size``: the smallest base radius (and best offset) that makes a design work.
+
+Registered on the ``camtol`` group by :mod:`camtol.cli`. Exit status 0 when a size is
+found, 2 on bad input or when no base radius can meet the requirements.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+import click
+
+from camtol.cli import EXIT_OK, _Exit, design_options, load_input, run_guarded
+
+__all__ = ["size", "sizing_hint"]
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def sizing_json(result: Any) -> dict[str, Any]:
+    """JSON-ready dict of a :class:`~camtol.sizing.SizingResult` (units in the keys)."""
+    return {
+        "base_radius_mm": round(result.base_radius_mm, 6),
+        "given_base_radius_mm": result.given_base_radius_mm,
+        "offset_mm": None if result.offset_mm is None else round(result.offset_mm, 6),
+        "limiting": result.limiting,
+        "pressure_angle_limit_deg": result.pressure_angle_limit_deg,
+        "min_radius_mm": result.min_radius_mm,
+        "cutter_radius_mm": result.cutter_radius_mm,
+        "tolerance_mm": result.tolerance_mm,
+        "cams": [
+            {
+                "cam": c.label or "cam",
+                "max_pressure_angle_deg": round(c.max_pressure_angle_deg, 4),
+                "max_pressure_angle_at_deg": round(c.max_pressure_angle_at_deg, 3),
+                "min_convex_radius_mm": _finite(round(c.min_convex_radius_mm, 4)),
+                "min_convex_radius_at_deg": _finite(c.min_convex_radius_at_deg),
+                "min_concave_radius_mm": _finite(round(c.min_concave_radius_mm, 4)),
+                "min_concave_radius_at_deg": _finite(c.min_concave_radius_at_deg),
+            }
+            for c in result.cams
+        ],
+    }
+
+
+def sizing_hint(design: Any) -> str | None:
+    """One sentence saying which base radius would make a failing design work, or None.
+
+    Parameters
+    ----------
+    design : CamDesign
+        A design that failed for undercut or pressure angle.
+
+    Returns
+    -------
+    str or None
+        E.g. "a base radius of at least 24.66 mm would work (camtol size)", or None when
+        no base radius helps or the follower has none.
+    """
+    from camtol.exceptions import CamtolError
+    from camtol.sizing import minimum_base_radius
+
+    try:
+        r = minimum_base_radius(design, tolerance_mm=0.01)
+    except CamtolError:
+        return None
+    return (
+        f"a base radius of at least {math.ceil(r.base_radius_mm * 100) / 100:g} mm would work"
+        f" (given {r.given_base_radius_mm:g} mm; limited by {r.limiting}; see `camtol size`)"
+    )
+
+
+@click.command()
+@design_options
+@click.option(
+    "--pressure-angle-limit",
+    "limit_deg",
+    type=float,
+    metavar="DEG",
+    help="Largest allowed |pressure angle| [deg] (default: the design's"
+    " operation.pressure_angle_limit_deg, else 90).",
+)
+@click.option(
+    "--min-radius",
+    "min_radius_mm",
+    type=float,
+    metavar="MM",
+    help="Smallest allowed convex radius of curvature of the profile [mm].",
+)
+@click.option(
+    "--cutter-radius",
+    "cutter_radius_mm",
+    type=float,
+    metavar="MM",
+    help="Cutter or wheel radius; concave stretches must be at least this flat [mm].",
+)
+@click.option(
+    "--optimise-offset",
+    is_flag=True,
+    help="Also choose the offset of a translating roller follower (smallest max |φ|).",
+)
+@click.option(
+    "--step",
+    "step_deg",
+    type=float,
+    default=0.1,
+    show_default=True,
+    metavar="DEG",
+    help="Grid step [deg].",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def size(
+    design: str | None,
+    example: str | None,
+    limit_deg: float | None,
+    min_radius_mm: float | None,
+    cutter_radius_mm: float | None,
+    optimise_offset: bool,
+    step_deg: float,
+    as_json: bool,
+) -> None:
+    """Find the smallest base radius (and offset) meeting the pressure-angle and curvature limits.
+
+    Every other dimension and the motion are kept; every cam of the design is checked
+    (both cams of a conjugate pair).
+    """
+
+    def body() -> int:
+        from camtol.exceptions import DesignError
+        from camtol.sizing import minimum_base_radius
+
+        for flag, value, upper in (
+            ("--pressure-angle-limit", limit_deg, 90.0),
+            ("--min-radius", min_radius_mm, math.inf),
+            ("--cutter-radius", cutter_radius_mm, math.inf),
+        ):
+            if value is not None and not (math.isfinite(value) and 0 < value <= upper):
+                raise DesignError(
+                    f"{flag}={value!r} is not allowed; give a positive number"
+                    + (f" up to {upper:g}" if math.isfinite(upper) else "")
+                )
+        d = load_input(design, example)
+        r = minimum_base_radius(
+            d,
+            pressure_angle_limit_deg=limit_deg,
+            min_radius_mm=min_radius_mm,
+            cutter_radius_mm=cutter_radius_mm,
+            optimise_offset=optimise_offset,
+            step_deg=step_deg,
+        )
+        if as_json:
+            click.echo(json.dumps(sizing_json(r), indent=2))
+            return EXIT_OK
+        click.echo(f"design             {d.name}")
+        click.echo(
+            f"base radius r_b    {r.base_radius_mm:.3f} mm minimum"
+            f" (given {r.given_base_radius_mm:g} mm; resolution {r.tolerance_mm:g} mm)"
+        )
+        if r.offset_mm is not None:
+            click.echo(f"offset e           {r.offset_mm:.3f} mm (smallest max |φ|)")
+        click.echo(f"limited by         {r.limiting}")
+        for c in r.cams:
+            name = f"cam {c.label}" if c.label else "cam"
+            click.echo(
+                f"{name:<18} max |φ| {c.max_pressure_angle_deg:.2f}° at"
+                f" {c.max_pressure_angle_at_deg:.1f}°; min convex ρ"
+                f" {c.min_convex_radius_mm:.3f} mm"
+                + (
+                    f"; min concave ρ {c.min_concave_radius_mm:.3f} mm"
+                    if math.isfinite(c.min_concave_radius_mm)
+                    else "; no concave stretch"
+                )
+            )
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))

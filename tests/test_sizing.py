@@ -1,0 +1,132 @@
+"""`camtol size` and the sizing aid (issue 13 item 4): minimum base radius, computed."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+
+from camtol.cli import main
+from camtol.config import load_example
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError
+from camtol.kinematics import analysis_grid
+from camtol.sizing import _cam_kinematics, _extremes, minimum_base_radius
+
+
+def test_flat_translating_matches_closed_form() -> None:
+    # THEORY §2.1: rho = r_b + (S + A) cos(phi), so rho >= rho_min needs
+    # r_b >= rho_min - min(S + A) cos(phi): the search must land there to its resolution.
+    d = load_example("cw06-translating")
+    theta, left = analysis_grid(0.1, d.program.boundaries_rad)
+    m = d.program.evaluate(theta, left_limit=left)
+    cphi = math.cos(d.mechanism.face_angle_rad)
+    for rho_min in (None, 5.0, 20.0):
+        r = minimum_base_radius(d, min_radius_mm=rho_min, tolerance_mm=1e-4)
+        expected = (rho_min or 0.0) - float(np.min(m.lift + m.acceleration)) * cphi
+        assert r.base_radius_mm == pytest.approx(expected, abs=2e-4)
+        assert r.base_radius_mm >= expected
+
+
+@pytest.mark.parametrize(
+    "name", ["roller-translating", "roller-oscillating", "cw06-oscillating", "cw06-translating"]
+)
+def test_bracket_answer_works_and_one_tolerance_less_does_not(name: str) -> None:
+    d = load_example(name)
+    limit = 32.0
+    r = minimum_base_radius(d, pressure_angle_limit_deg=limit, tolerance_mm=1e-3)
+    for c in r.cams:
+        assert c.max_pressure_angle_deg <= limit
+        assert c.min_convex_radius_mm > 0
+    smaller = dataclasses.replace(
+        d, mechanism=dataclasses.replace(d.mechanism, base_radius_mm=r.base_radius_mm - 1e-3)
+    )
+    assert _fails(smaller, limit), "one resolution below the answer, a requirement must fail"
+
+
+def _fails(design: CamDesign, limit: float) -> bool:
+    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
+    for label, mech, kin in _cam_kinematics(design, theta, left):
+        s, problems = _extremes(label, mech, kin)
+        if problems or s.max_pressure_angle_deg > limit:
+            return True
+    return False
+
+
+def test_roller_pressure_angle_limit_is_met_exactly() -> None:
+    d = load_example("roller-translating")
+    r = minimum_base_radius(d, pressure_angle_limit_deg=30.0, tolerance_mm=1e-4)
+    assert r.limiting == "pressure angle"
+    assert r.cams[0].max_pressure_angle_deg == pytest.approx(30.0, abs=0.01)
+
+
+def test_offset_optimisation_never_worse() -> None:
+    d = load_example("roller-translating")
+    plain = minimum_base_radius(d, pressure_angle_limit_deg=30.0)
+    best = minimum_base_radius(d, pressure_angle_limit_deg=30.0, optimise_offset=True)
+    assert best.offset_mm is not None
+    assert best.base_radius_mm <= plain.base_radius_mm + 1e-3
+
+
+def test_cutter_radius_limits_concave_stretches() -> None:
+    d = load_example("roller-translating")
+    r = minimum_base_radius(d, pressure_angle_limit_deg=30.0, cutter_radius_mm=50.0)
+    assert all(c.min_concave_radius_mm >= 50.0 for c in r.cams)
+
+
+def test_no_radius_cures_v_at_least_one() -> None:
+    d = load_example("cw06-oscillating")
+    from camtol.motion import Segment, SegmentProgram
+
+    fast = SegmentProgram(
+        (
+            Segment("rise", 0.0, math.radians(5.0), "cycloidal", math.radians(15.0)),
+            Segment("dwell", math.radians(5.0), math.radians(180.0), "cycloidal", 0.0),
+            Segment(
+                "return", math.radians(180.0), math.radians(300.0), "cycloidal", math.radians(15.0)
+            ),
+            Segment("dwell", math.radians(300.0), math.radians(360.0), "cycloidal", 0.0),
+        )
+    )
+    with pytest.raises(DesignError, match="no base radius helps.*V reaches"):
+        minimum_base_radius(dataclasses.replace(d, program=fast))
+
+
+def test_cli_size_text_and_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["size", "--example", "roller-translating", "--pressure-angle-limit", "30"]) == 0
+    out = capsys.readouterr().out
+    assert "base radius r_b" in out and "mm minimum" in out and "max |φ| 30.00°" in out
+    assert main(["size", "--example", "cw11-conjugate", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert {c["cam"] for c in doc["cams"]} == {"A", "B"}
+    assert doc["base_radius_mm"] > 0 and isinstance(doc["limiting"], str)
+
+
+@pytest.mark.parametrize(
+    ("flag", "value"),
+    [("--pressure-angle-limit", "-3"), ("--pressure-angle-limit", "95"), ("--min-radius", "nan")],
+)
+def test_cli_size_bad_flags(flag: str, value: str, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["size", "--example", "cw06-translating", flag, value]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{flag}=" in err and "Traceback" not in err
+
+
+def test_analyze_failure_says_which_radius_works(
+    tmp_path: object, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from pathlib import Path
+
+    from camtol.config import example_text
+
+    p = Path(str(tmp_path)) / "small.toml"
+    p.write_text(
+        example_text("cw06-translating").replace("base_radius_mm = 40.0", "base_radius_mm = 20.0")
+    )
+    assert main(["analyze", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "a base radius of at least 24.66 mm would work" in err
+    assert err.count("\n") == 1
