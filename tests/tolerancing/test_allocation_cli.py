@@ -101,7 +101,7 @@ def _design(tmp_path: Path, extra: str) -> Path:
         ("[statistics]\ne = { zone_lower_um = 5, zone_upper_um = -5 }", [], "zone lower"),
         ("[statistics]\nq = { cp = 1 }", [], "statistics.q is not a toleranced source"),
         ("", ["--samples", "0"], "--samples=0"),
-        ("", ["--samples", "100000", "--mode", "exact"], "too large for exact mode"),
+        ("", ["--samples", "1000000", "--mode", "exact"], "too large for exact mode"),
     ],
 )
 def test_cli_bad_input(tmp_path: Path, capsys, extra, args, message):
@@ -130,3 +130,15 @@ def test_cli_allocate(capsys):
     assert code == 0
     assert set(out["grades"]) == {"r", "e", "phi"}
     assert out["achieved"] <= 20 and math.isfinite(out["cost"])
+
+
+def test_report_montecarlo_section(tmp_path: Path, capsys):
+    out = tmp_path / "r.html"
+    assert main(["report", "-e", "cw06-translating", "-o", str(out), "--step", "1",
+                 "--montecarlo", "1000", "-q"]) == 0
+    html = out.read_text()
+    assert "Monte Carlo (linear mode, 1000 samples" in html
+    assert "Worst case, RSS and Monte Carlo" in html
+    bad = tmp_path / "bad.html"
+    assert main(["report", "-e", "cw06-translating", "-o", str(bad), "--montecarlo", "0"]) == 2
+    assert "--montecarlo=0" in capsys.readouterr().err and not bad.exists()

@@ -83,6 +83,7 @@ def test_exact_vs_linear_is_second_order():
     # Same seed, every zone halved: the samples are exactly halved, so a second-order
     # linearisation error falls by about 4 (THEORY §5, as `camtol verify` checks per source).
     d = load_example("roller-translating")
+    d = dataclasses.replace(d, tolerances=(*d.tolerances, ToleranceSpec("phase", deviation=0.05)))
     full = monte_carlo(d, 12, mode="exact", seed=2, step_deg=1.0)
     half = monte_carlo(_halved(d), 12, mode="exact", seed=2, step_deg=1.0)
     assert full.difference is not None and half.difference is not None

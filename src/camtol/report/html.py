@@ -13,6 +13,7 @@ import html
 import io
 import re
 from pathlib import Path
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -187,7 +188,10 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
 
 
 def report_html(
-    design_or_analysis: CamDesign | Analysis, *, base_dir: str | Path | None = None
+    design_or_analysis: CamDesign | Analysis,
+    *,
+    base_dir: str | Path | None = None,
+    sections: Sequence[str] = (),
 ) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
@@ -197,6 +201,9 @@ def report_html(
         A design (analysed with the default 0.1° step) or a finished analysis.
     base_dir : str or Path, optional
         Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
+    sections : sequence of str
+        Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
+        :func:`camtol.report.tolerancing.montecarlo_section`).
 
     Returns
     -------
@@ -293,6 +300,7 @@ def report_html(
         erows.append([q.label, _pretty(q.unit), _fmt(mx.value), mx.where, _fmt(mn.value), mn.where])
     parts.append(_table(["quantity", "unit", "max", "at θ", "min", "at θ"], erows, {2, 4}))
 
+    parts.extend(sections)
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
@@ -334,6 +342,7 @@ def write_report(
     path: str | Path,
     *,
     base_dir: str | Path | None = None,
+    sections: Sequence[str] = (),
 ) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
@@ -345,6 +354,8 @@ def write_report(
         Output file; must end in ``.html`` or ``.htm``.
     base_dir : str or Path, optional
         Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
+    sections : sequence of str
+        Extra HTML sections inserted before the figures.
 
     Returns
     -------
@@ -382,5 +393,5 @@ def write_report(
         if isinstance(design_or_analysis, Analysis)
         else analyse(design_or_analysis)
     )
-    atomic_write(p, report_html(a, base_dir=base_dir))
+    atomic_write(p, report_html(a, base_dir=base_dir, sections=sections))
     return a

@@ -47,27 +47,12 @@ PROBS = (0.00135, 0.5, 0.99865)
 def perturbed(mechanism: Mechanism, key: str, delta: float) -> Mechanism:
     """The mechanism with the parameter behind source ``key`` changed by ``delta``.
 
-    Uses ``Mechanism.perturbed`` where the mechanism has it, else the verification
-    module's parameter table.
-
     Raises
     ------
     DesignError
         The source has no follower parameter (profile sources r, n) or is unknown.
     """
-    method = getattr(mechanism, "perturbed", None)
-    if callable(method):
-        out = method(key, delta)
-        assert isinstance(out, Mechanism)
-        return out
-    from camtol.verify import PARAMETERS, _perturbed
-
-    if key not in PARAMETERS.get(mechanism.kind, {}):
-        raise DesignError(
-            f"source {key!r} of a {mechanism.kind} follower cannot be re-simulated in exact"
-            " mode; use --mode linear"
-        )
-    return _perturbed(mechanism, key, delta)
+    return mechanism.perturbed(key, delta)
 
 
 @dataclass(frozen=True)
@@ -81,16 +66,27 @@ class _Sum:
         return out
 
 
-def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism]:
+def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism, float]:
+    """The sample's cam shape, follower and cam phase error Δθ0 [rad]."""
     plan = study.plan
     design = study.design
     mech = design.mechanism
     errs: dict[str, list[ProfileError]] = {"r": [], "n": []}
+    phase = 0.0
+    own = {s.key for s in mech.sources}
     for j, lab in enumerate(plan.labels[: len(plan.distributions)]):
         if lab in ("r", "n"):
             errs[lab].append(FourierError(float(x[j])))
-        else:
+        elif lab == "phase":
+            # The cam sits late by Δθ0: the follower sees the cam at θ − Δθ0 (THEORY §3,
+            # camtol.sources.AngularPhase), exactly, whatever the other errors.
+            phase = float(x[j])
+        elif lab in own:
             mech = perturbed(mech, lab, float(x[j]))
+        else:
+            raise DesignError(
+                f"source {lab!r} cannot be re-simulated in exact mode; use --mode linear"
+            )
     p = plan.process
     if p is not None:
         a, b = plan.groups[-1]
@@ -104,7 +100,7 @@ def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism]:
         return None if not e else e[0] if len(e) == 1 else _Sum(tuple(e))
 
     shape = AnalyticShape(design.mechanism, design.program, one(errs["r"]), one(errs["n"]))
-    return shape, mech
+    return shape, mech, phase
 
 
 def _stats(y: FloatArray) -> tuple[FloatArray, FloatArray, list[FloatArray]]:
@@ -163,8 +159,8 @@ def run_exact(
     nominal = design.program.evaluate(theta, left_limit=left).lift
     exact = np.empty((samples, theta.size))
     for i in range(samples):
-        shape, mech = _sample_shape(study, x[i])
-        res = follow(theta, shape, mech, reference=design.mechanism, left_limit=left)
+        shape, mech, phase = _sample_shape(study, x[i])
+        res = follow(theta - phase, shape, mech, reference=design.mechanism, left_limit=left)
         exact[i] = res.lift - nominal
         if progress is not None:
             progress(i + 1, samples)

@@ -141,7 +141,7 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
     ConfigError
         One line naming the field, the value and what is allowed.
     """
-    units = {s.key: s.unit for s in design.mechanism.sources}
+    units = {s.key: s.unit for s in design.sources}
     toleranced = [t.key for t in design.tolerances]
     sources: dict[str, SourceDistribution] = {}
     default = SourceDistribution()
@@ -159,7 +159,7 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
                 )
             except ValueError as exc:
                 raise ConfigError(str(exc)) from None
-            if process.target not in units:
+            if process.target not in {s.key for s in design.mechanism.sources}:
                 raise ConfigError(
                     f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
                     f" has no such profile source; allowed: {', '.join(k for k in 'rn' if k in units)}"

@@ -193,7 +193,7 @@ def sensitivity_matrices(
         unit per column unit (per rad^k of cam angle for ΔV, ΔA).
     """
     keys = [lab for lab in plan.labels if not lab.endswith("_process")]
-    unit = {s.key: s.unit for s in design.mechanism.sources}
+    unit = {s.key: s.unit for s in design.sources}
     p = plan.process
     wanted = list(keys) + ([p.target] if p is not None and p.target not in keys else [])
     unit_tols = tuple(ResolvedTolerance(k, 1.0, unit[k], "unit") for k in wanted)
