@@ -56,11 +56,15 @@ def bench_linear(samples: int) -> None:
     flops = 2 * 2 * samples * n * 4  # two GEMMs (ΔS and histogram bins), 3 sources + 1
     bytes_ = 2 * samples * n * 4 * 6  # ~6 float32/int passes over ΔS per sample block
     scaled = dt * 1e6 / samples
-    print(f"linear: {samples:.0e} samples × {n} angles in {dt:.2f} s on {workers} threads"
-          f" (scaled to 1e6: {scaled:.1f} s, target ≤ 10 s, ratio {scaled / 10:.2f});"
-          f" peak RSS {_rss_gib():.2f} GiB (target ≤ 1 GiB)")
-    print(f"  machine: GEMM {gemm:.1f} GFLOP/s, copy {bw:.1f} GB/s; achieved"
-          f" {flops / dt / 1e9 / gemm:.1%} of GEMM, {bytes_ / dt / 1e9 / bw:.1%} of bandwidth")
+    print(
+        f"linear: {samples:.0e} samples × {n} angles in {dt:.2f} s on {workers} threads"
+        f" (scaled to 1e6: {scaled:.1f} s, target ≤ 10 s, ratio {scaled / 10:.2f});"
+        f" peak RSS {_rss_gib():.2f} GiB (target ≤ 1 GiB)"
+    )
+    print(
+        f"  machine: GEMM {gemm:.1f} GFLOP/s, copy {bw:.1f} GB/s; achieved"
+        f" {flops / dt / 1e9 / gemm:.1%} of GEMM, {bytes_ / dt / 1e9 / bw:.1%} of bandwidth"
+    )
 
 
 def bench_exact(samples: int) -> None:
@@ -69,9 +73,11 @@ def bench_exact(samples: int) -> None:
     r = monte_carlo(d, samples, mode="exact", seed=1)
     dt = time.perf_counter() - t
     rate = samples * r.theta_deg.size / dt * 60
-    print(f"exact: {samples} samples × {r.theta_deg.size} angles in {dt:.2f} s ="
-          f" {rate / 3600:.0f} samples × 3600 angles/min (target ≥ 1000, ratio"
-          f" {rate / 3600 / 1000:.2f})")
+    print(
+        f"exact: {samples} samples × {r.theta_deg.size} angles in {dt:.2f} s ="
+        f" {rate / 3600:.0f} samples × 3600 angles/min (target ≥ 1000, ratio"
+        f" {rate / 3600 / 1000:.2f})"
+    )
 
 
 def bench_allocation() -> None:
@@ -86,9 +92,11 @@ def bench_allocation() -> None:
         a = allocate(d, math.radians(0.05), criterion=crit, samples=samples, verify_samples=20000)
         dt = time.perf_counter() - t
         target = 60 if crit == "monte_carlo" else 5
-        print(f"allocation {crit}: {len(keys)} sources × 8 grades in {dt:.2f} s (target ≤"
-              f" {target} s, ratio {dt / target:.2f}); {a.evaluated} combinations;"
-              f" grades {a.grades}")
+        print(
+            f"allocation {crit}: {len(keys)} sources × 8 grades in {dt:.2f} s (target ≤"
+            f" {target} s, ratio {dt / target:.2f}); {a.evaluated} combinations;"
+            f" grades {a.grades}"
+        )
 
 
 if __name__ == "__main__":

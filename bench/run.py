@@ -11,7 +11,12 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).parent
-BENCHMARKS = ["bench_analyze.py", "bench_contact.py", "bench_manufacturing.py", "bench_montecarlo.py"]
+BENCHMARKS = [
+    "bench_analyze.py",
+    "bench_contact.py",
+    "bench_manufacturing.py",
+    "bench_montecarlo.py",
+]
 
 if __name__ == "__main__":
     for name in BENCHMARKS:

@@ -32,7 +32,7 @@ __all__ = ["allocate", "montecarlo"]
 
 @contextmanager
 def _progress(label: str, enabled: bool) -> Iterator[Callable[[int, int], None] | None]:
-    """A rich progress bar on stderr, only when stderr is a terminal."""
+    """Show a rich progress bar on stderr, only when stderr is a terminal."""
     if not (enabled and sys.stderr.isatty()):
         yield None
         return
@@ -68,7 +68,7 @@ def _spec(design: Any, spec_um: float | None, spec_deg: float | None) -> float |
 
 
 def curves_csv(result: Any) -> str:
-    """The ``--curves`` CSV text: one row per angle (columns in docs/tolerancing.md)."""
+    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md)."""
     s = result.statistics["lift"]
     u = s.unit
     cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
@@ -112,13 +112,17 @@ def _print(result: Any) -> None:
     echo = click.echo
     s = result.statistics["lift"]
     u = s.unit
-    echo(f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
-         f" seed {result.seed}")
+    echo(
+        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
+        f" seed {result.seed}"
+    )
     for k, v in result.sources.items():
         echo(f"  source {k:<10} {v}")
     m = s.max_abs
-    echo(f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
-         f" median {m.q50:.4g}, 99.865 % {m.q99865:.4g}")
+    echo(
+        f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
+        f" median {m.q50:.4g}, 99.865 % {m.q99865:.4g}"
+    )
     y = result.yield_estimate
     if y is not None:
         echo(f"  yield ({y.spec}): {y.value:.4%}  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]")
@@ -130,8 +134,10 @@ def _print(result: Any) -> None:
         echo(f"  {r.source:<12}{r.worst_case:>12.4g}{r.rss:>10.4g}{r.mc_9973:>12.4g}")
     if result.difference is not None:
         d = result.difference
-        echo(f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
-             f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}")
+        echo(
+            f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
+            f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}"
+        )
     for n in result.notes:
         echo(f"  note: {n}")
 
@@ -216,15 +222,36 @@ def montecarlo(
     default="worst_case",
     show_default=True,
 )
-@click.option("--yield", "target_yield", type=float, default=0.9973, show_default=True,
-              help="Yield target of the monte_carlo criterion (0-1).")
+@click.option(
+    "--yield",
+    "target_yield",
+    type=float,
+    default=0.9973,
+    show_default=True,
+    help="Yield target of the monte_carlo criterion (0-1).",
+)
 @click.option("--grades", default="IT5-IT12", show_default=True, help="Grade range, e.g. IT5-IT12.")
-@click.option("--cost-exponent", type=float, default=1.0, show_default=True,
-              help="b in cost = sum a_k (T_coarsest/T_k)^b.")
-@click.option("--cost", "costs", multiple=True, metavar="KEY=A",
-              help="Cost coefficient a_k of a source (default 1), repeatable.")
-@click.option("--samples", type=int, default=20000, show_default=True,
-              help="Samples per candidate (monte_carlo) .")
+@click.option(
+    "--cost-exponent",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help="b in cost = sum a_k (T_coarsest/T_k)^b.",
+)
+@click.option(
+    "--cost",
+    "costs",
+    multiple=True,
+    metavar="KEY=A",
+    help="Cost coefficient a_k of a source (default 1), repeatable.",
+)
+@click.option(
+    "--samples",
+    type=int,
+    default=20000,
+    show_default=True,
+    help="Samples per candidate (monte_carlo) .",
+)
 @click.option("--verify-samples", type=int, default=100000, show_default=True)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
@@ -299,17 +326,25 @@ def allocate(
             click.echo(json.dumps(out, indent=2, default=_json_default))
             return EXIT_OK
         echo = click.echo
-        echo(f"camtol allocate: {d.name}, spec max |dS| <= {res.spec:g} {res.unit},"
-             f" criterion {res.criterion}")
+        echo(
+            f"camtol allocate: {d.name}, spec max |dS| <= {res.spec:g} {res.unit},"
+            f" criterion {res.criterion}"
+        )
         for k, g in res.grades.items():
             echo(f"  {k:<6}{g:<6}{res.tolerances[k]}")
         what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
-        val = f"{res.achieved:.4%}" if res.criterion == "monte_carlo" else f"{res.achieved:.4g} {res.unit}"
+        val = (
+            f"{res.achieved:.4%}"
+            if res.criterion == "monte_carlo"
+            else f"{res.achieved:.4g} {res.unit}"
+        )
         echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
         echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
         y = res.verified
-        echo(f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
-             f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]")
+        echo(
+            f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
+            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
         return EXIT_OK
 
     raise _Exit(run_guarded(body))

@@ -68,8 +68,22 @@ def test_spec_no_grade_can_meet():
 def test_cli_montecarlo_files(tmp_path: Path, capsys):
     csv, png = tmp_path / "c.csv", tmp_path / "p.png"
     code = main(
-        ["montecarlo", "-e", "cw06-translating", "--samples", "3000", "--spec-um", "20",
-         "--step", "1", "--json", "--curves", str(csv), "--plot", str(png)]
+        [
+            "montecarlo",
+            "-e",
+            "cw06-translating",
+            "--samples",
+            "3000",
+            "--spec-um",
+            "20",
+            "--step",
+            "1",
+            "--json",
+            "--curves",
+            str(csv),
+            "--plot",
+            str(png),
+        ]
     )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
@@ -81,8 +95,15 @@ def test_cli_montecarlo_files(tmp_path: Path, capsys):
     assert out["comparison"][-1]["source"] == "combined"
     header = csv.read_text().splitlines()[0].split(",")
     assert header == [
-        "theta_deg", "dS_mean_um", "dS_std_um", "dS_q00135_um", "dS_q50_um", "dS_q99865_um",
-        "share_r", "share_e", "share_phi",
+        "theta_deg",
+        "dS_mean_um",
+        "dS_std_um",
+        "dS_q00135_um",
+        "dS_q50_um",
+        "dS_q99865_um",
+        "share_r",
+        "share_e",
+        "share_phi",
     ]
     assert png.stat().st_size > 0
 
@@ -124,8 +145,18 @@ def test_cli_allocate_unmeetable(capsys):
 
 
 def test_cli_allocate(capsys):
-    code = main(["allocate", "-e", "cw06-translating", "--spec-um", "20", "--json",
-                 "--verify-samples", "2000"])
+    code = main(
+        [
+            "allocate",
+            "-e",
+            "cw06-translating",
+            "--spec-um",
+            "20",
+            "--json",
+            "--verify-samples",
+            "2000",
+        ]
+    )
     out = json.loads(capsys.readouterr().out)
     assert code == 0
     assert set(out["grades"]) == {"r", "e", "phi"}
@@ -134,8 +165,23 @@ def test_cli_allocate(capsys):
 
 def test_report_montecarlo_section(tmp_path: Path, capsys):
     out = tmp_path / "r.html"
-    assert main(["report", "-e", "cw06-translating", "-o", str(out), "--step", "1",
-                 "--montecarlo", "1000", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                "-e",
+                "cw06-translating",
+                "-o",
+                str(out),
+                "--step",
+                "1",
+                "--montecarlo",
+                "1000",
+                "-q",
+            ]
+        )
+        == 0
+    )
     html = out.read_text()
     assert "Monte Carlo (linear mode, 1000 samples" in html
     assert "Worst case, RSS and Monte Carlo" in html

@@ -138,9 +138,10 @@ def test_same_seed_same_numbers_on_a_dask_local_cluster():
     )
     n = 2 * CHUNK + 5
     ref = monte_carlo(CW06, n, seed=8, spec=0.02, step_deg=1.0, chunks_per_task=1)
-    with distributed.LocalCluster(
-        n_workers=2, processes=False, dashboard_address=None
-    ) as cluster, distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(n_workers=2, processes=False, dashboard_address=None) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         res = monte_carlo(CW06, n, seed=8, spec=0.02, step_deg=1.0, scheduler=client)
     assert res.to_dict() == ref.to_dict()
     np.testing.assert_array_equal(res.statistics["lift"].q99865, ref.statistics["lift"].q99865)

@@ -12,8 +12,8 @@ import datetime as _dt
 import html
 import io
 import re
-from pathlib import Path
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np

@@ -99,8 +99,8 @@ def _hull_angles(g: FloatArray) -> FloatArray:
 
         pts = np.vstack([g, -g])
         hull = ConvexHull(pts)
-        idx = np.unique(hull.vertices % g.shape[0])
-        return g[idx]
+        idx = np.unique(np.asarray(hull.vertices) % g.shape[0])
+        return np.asarray(g[idx], dtype=float)
     except (QhullError, ValueError):
         return g
 
@@ -177,12 +177,16 @@ def allocate(
     coef = {k: 1.0 for k in keys}
     for k, v in (cost_coefficients or {}).items():
         if k not in coef:
-            raise DesignError(f"cost coefficient for {k!r}: not a toleranced source ({', '.join(keys)})")
+            raise DesignError(
+                f"cost coefficient for {k!r}: not a toleranced source ({', '.join(keys)})"
+            )
         if not (math.isfinite(v) and v > 0):
             raise DesignError(f"cost coefficient {k}={v!r} must be > 0")
         coef[k] = float(v)
     model = statistical_model(design) if model is None else model
-    base = prepare(_with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg)
+    base = prepare(
+        _with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg
+    )
     from camtol.analysis import max_radius_mm
 
     rmax = max_radius_mm(design)
@@ -202,7 +206,9 @@ def allocate(
     combos = np.array(list(itertools.product(range(len(grades)), repeat=nk)), dtype=np.int64)
     t_comb = dev[np.arange(nk)[None, :], combos]  # (C, nk)
     ref = dev[:, -1]
-    cost = ((ref[None, :] / t_comb) ** cost_exponent * np.array([coef[k] for k in keys])).sum(axis=1)
+    cost = ((ref[None, :] / t_comb) ** cost_exponent * np.array([coef[k] for k in keys])).sum(
+        axis=1
+    )
     scale = base.scale
 
     def figure(t: FloatArray) -> FloatArray:
@@ -260,10 +266,19 @@ def allocate(
             failed.append(idx)
         if choice < 0:
             y = yield_of(finest[0])
-            _no_grade(base.theta_rad, keys, grades, g, finest[0], spec, scale, base.unit,
-                      f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})")
+            _no_grade(
+                base.theta_rad,
+                keys,
+                grades,
+                g,
+                finest[0],
+                spec,
+                scale,
+                base.unit,
+                f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})",
+            )
         achieved = yield_of(t_comb[choice], early=False)
-        fails = {}
+        fails: dict[str, bool | None] = {}
         for j, k in enumerate(keys):
             idx = combos[choice].copy()
             if idx[j] == len(grades) - 1:
@@ -277,8 +292,17 @@ def allocate(
         ok = wc <= spec
         if not ok.any():
             what = "worst case" if criterion == "worst_case" else "RSS"
-            _no_grade(base.theta_rad, keys, grades, g, finest[0], spec, scale, base.unit,
-                      f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}")
+            _no_grade(
+                base.theta_rad,
+                keys,
+                grades,
+                g,
+                finest[0],
+                spec,
+                scale,
+                base.unit,
+                f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}",
+            )
         cand = np.flatnonzero(ok)
         choice = int(cand[np.argmin(cost[cand])])
         achieved = float(wc[choice] * scale)
@@ -298,7 +322,9 @@ def allocate(
         accuracy = iso286.grade_of_deviation(worst, design.program.total_travel)
     else:
         accuracy = iso286.grade_of_angle_deviation(worst, math.degrees(design.program.total_travel))
-    check = monte_carlo(final, verify_samples, seed=seed + 1, model=model, spec=spec, step_deg=step_deg)
+    check = monte_carlo(
+        final, verify_samples, seed=seed + 1, model=model, spec=spec, step_deg=step_deg
+    )
     assert check.yield_estimate is not None
     return Allocation(
         grades=dict(zip(keys, chosen, strict=True)),

@@ -119,8 +119,7 @@ class SourceDistribution:
         centre = 0.5 * (lo + hi) + self.bias
         if not lo <= centre <= hi:
             raise DesignError(
-                f"{self.label}.bias={self.bias:g} puts the centre outside the zone"
-                f" [{lo:g}, {hi:g}]"
+                f"{self.label}.bias={self.bias:g} puts the centre outside the zone [{lo:g}, {hi:g}]"
             )
         return ResolvedDistribution(self.kind, lo, hi, centre, self.cp, self.truncate)
 
@@ -225,7 +224,15 @@ class ResolvedDistribution:
         return float(m), float(v)
 
     def describe(self, scale: float, unit: str) -> str:
-        """One-line description in display units, e.g. ``normal Cp=1 in [−19, 19] µm``."""
+        """One-line description in display units, e.g. ``normal Cp=1 in [−19, 19] µm``.
+
+        Parameters
+        ----------
+        scale : float
+            Factor from internal to display units (1e3 for µm, 180/π for degrees). [-]
+        unit : str
+            Display unit symbol.
+        """
         zone = f"[{self.lower * scale:.4g}, {self.upper * scale:.4g}] {unit}"
         if self.kind == "normal":
             cut = "truncated" if self.truncate else "untruncated"

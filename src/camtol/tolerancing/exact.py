@@ -45,7 +45,16 @@ PROBS = (0.00135, 0.5, 0.99865)
 
 
 def perturbed(mechanism: Mechanism, key: str, delta: float) -> Mechanism:
-    """The mechanism with the parameter behind source ``key`` changed by ``delta``.
+    """Return the mechanism with the parameter behind source ``key`` moved by ``delta``.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The follower.
+    key : str
+        Error-source key.
+    delta : float
+        Deviation. [mm or rad]
 
     Raises
     ------
@@ -67,7 +76,7 @@ class _Sum:
 
 
 def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism, float]:
-    """The sample's cam shape, follower and cam phase error Δθ0 [rad]."""
+    """Return the sample's cam shape, follower and cam phase error Δθ0 [rad]."""
     plan = study.plan
     design = study.design
     mech = design.mechanism
@@ -117,7 +126,9 @@ def _summary(v: FloatArray) -> Summary:
     return Summary(float(v.mean()), sd, q[0], q[1], q[2])
 
 
-def regression_shares(x: FloatArray, y: FloatArray, groups: tuple[tuple[int, int], ...]) -> FloatArray:
+def regression_shares(
+    x: FloatArray, y: FloatArray, groups: tuple[tuple[int, int], ...]
+) -> FloatArray:
     """Variance shares of a linear regression of y (samples × angles) on x, per group.
 
     Returns
@@ -144,7 +155,21 @@ def run_exact(
     spec: float | None,
     progress: Callable[[int, int], None] | None,
 ) -> MonteCarloResult:
-    """Exact-mode study (see module docstring); arguments as :func:`monte_carlo`."""
+    """Run an exact-mode study (see the module docstring).
+
+    Parameters
+    ----------
+    study : Study
+        The prepared design (:func:`camtol.tolerancing.montecarlo.prepare`).
+    samples : int
+        Number of samples.
+    seed : int
+        Seed of the random streams.
+    spec : float or None
+        Spec on max |ΔS|. [mm or rad]
+    progress : callable or None
+        Called with (samples done, samples).
+    """
     from camtol.tolerancing.montecarlo import (
         comparison_rows,
         describe_sources,
@@ -172,7 +197,14 @@ def run_exact(
     l_max = np.max(np.abs(linear), axis=1)
     stats = {
         "lift": AngleStatistics(
-            "lift", study.unit, em * s, es * s, eq[0] * s, eq[1] * s, eq[2] * s, 0.0,
+            "lift",
+            study.unit,
+            em * s,
+            es * s,
+            eq[0] * s,
+            eq[1] * s,
+            eq[2] * s,
+            0.0,
             Summary(*(v * s for v in vars(_summary(e_max)).values())),
         )
     }
@@ -198,7 +230,10 @@ def run_exact(
         how = "too few samples to regress: linear-model variance shares"
     i = worst_angle(eq[0], eq[2], None)
     contributions = tuple(
-        sorted((Contribution(k, float(v[i])) for k, v in shares.items()), key=lambda c: -c.variance_share)
+        sorted(
+            (Contribution(k, float(v[i])) for k, v in shares.items()),
+            key=lambda c: -c.variance_share,
+        )
     )
     label_q = []
     g = study.sens["lift"]

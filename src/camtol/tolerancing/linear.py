@@ -1,7 +1,7 @@
 """Linear-mode Monte Carlo engine: chunked GEMM of sensitivities × samples (THEORY §3).
 
 For each chunk of samples X (rows), ΔS = G Xᵀ (angles × samples) is formed block by block
-in float32 (bounded memory: one block of ``BLOCK`` samples at a time) and reduced at once:
+in float32 (bounded memory: one block of ``BLOCK_ANGLES`` angles × one chunk at a time) and reduced at once:
 
 - per angle, a histogram of ΔS over a fixed range that holds every sample (the worst-case
   range of the bounded columns, ±8σ for unbounded ones): the quantiles are read from it
@@ -27,8 +27,8 @@ from camtol.tolerancing.plan import CHUNK, SamplingPlan, chunk_uniforms
 
 __all__ = ["LinearSpec", "LinearTotals", "run_task", "merge"]
 
-#: Samples per GEMM block (keeps the angles × block array in cache).
-BLOCK = 512
+#: Angles per GEMM block (keeps the block × chunk array and its histograms in cache).
+BLOCK_ANGLES = 64
 #: Bins of the per-angle histograms and of the max |ΔS| histograms.
 ANGLE_BINS = 1024
 MAX_BINS = 16384
@@ -118,7 +118,7 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
     out = _empty(spec)
     plan = spec.plan
     n = next(iter(spec.sens.values())).shape[0]
-    offs = (np.arange(n, dtype=np.int32) * ANGLE_BINS)[:, None]
+    offs = (np.arange(BLOCK_ANGLES, dtype=np.intp) * ANGLE_BINS)[:, None]
     g32 = {q: np.ascontiguousarray(g, dtype=np.float32) for q, g in spec.sens.items()}
     scaled = {
         q: np.ascontiguousarray(
@@ -142,24 +142,35 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
                 lab = np.abs(x[:, a]) * float(gmax[:, a].max())
             else:
                 lab = np.abs(spec.sens["lift"][:, a:b] @ x[:, a:b].T).max(axis=0)
-            out.label_hist[j] += np.bincount(_bins(lab, float(spec.label_top[j])), minlength=MAX_BINS)
+            out.label_hist[j] += np.bincount(
+                _bins(lab, float(spec.label_top[j])), minlength=MAX_BINS
+            )
         xt = np.ascontiguousarray(x.T, dtype=np.float32)
         xa = np.vstack([xt, np.ones((1, size), np.float32)])
         ok_band = np.ones(size, bool)
         for q in spec.sens:
-            maxabs = np.empty(size)
-            for s0 in range(0, size, BLOCK):
-                s1 = min(size, s0 + BLOCK)
-                d = g32[q] @ xt[:, s0:s1]
-                maxabs[s0:s1] = np.maximum(d.max(axis=0), -d.min(axis=0))
+            top = np.full(size, -np.inf, dtype=np.float32)
+            bottom = np.full(size, np.inf, dtype=np.float32)
+            hist = out.hist[q]
+            # Blocks of angles × all the chunk's samples: each block's histograms (and
+            # its ΔS values) stay in cache.
+            for a0 in range(0, n, BLOCK_ANGLES):
+                a1 = min(n, a0 + BLOCK_ANGLES)
+                d = g32[q][a0:a1] @ xt
+                np.maximum(top, d.max(axis=0), out=top)
+                np.minimum(bottom, d.min(axis=0), out=bottom)
                 if q == "lift" and spec.band is not None:
                     lo, hi = spec.band
-                    ok_band[s0:s1] &= np.all((d >= lo[:, None]) & (d <= hi[:, None]), axis=0)
-                u = scaled[q] @ xa[:, s0:s1]
-                np.clip(u, 0.0, ANGLE_BINS - 1, out=u)
+                    ok_band &= np.all((d >= lo[a0:a1, None]) & (d <= hi[a0:a1, None]), axis=0)
+                u = scaled[q][a0:a1] @ xa
+                np.maximum(u, 0.0, out=u)
+                np.minimum(u, ANGLE_BINS - 1, out=u)
                 idx = u.astype(np.intp)
-                idx += offs
-                out.hist[q] += np.bincount(idx.ravel(), minlength=n * ANGLE_BINS)
+                idx += offs[: a1 - a0]
+                hist[a0 * ANGLE_BINS : a1 * ANGLE_BINS] += np.bincount(
+                    idx.ravel(), minlength=(a1 - a0) * ANGLE_BINS
+                )
+            maxabs = np.maximum(top, -bottom).astype(float)
             out.max_hist[q] += np.bincount(_bins(maxabs, spec.max_top[q]), minlength=MAX_BINS)
             sums[q] = (float(maxabs.sum()), float((maxabs * maxabs).sum()))
             if q == "lift" and spec.spec is not None:
@@ -171,7 +182,13 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
 
 
 def merge(parts: list[LinearTotals]) -> LinearTotals:
-    """Add task results (integers in any order; floating partials kept per chunk)."""
+    """Add task results (integers in any order; floating partials kept per chunk).
+
+    Parameters
+    ----------
+    parts : list of LinearTotals
+        Task results; the first one receives the sum.
+    """
     total = parts[0]
     for p in parts[1:]:
         for q in total.hist:

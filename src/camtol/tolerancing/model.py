@@ -52,7 +52,13 @@ class StatisticalModel:
     process: ProfileProcess | None = None
 
     def distribution(self, key: str) -> SourceDistribution:
-        """The distribution of source ``key``."""
+        """Return the distribution of a source.
+
+        Parameters
+        ----------
+        key : str
+            Tolerance key, e.g. ``"e"``.
+        """
         return self.sources.get(key, self.default)
 
 
@@ -99,7 +105,9 @@ def _source(data: Any, where: str, unit: str) -> SourceDistribution:
     want, other = ("um", "deg") if unit == "mm" else ("deg", "um")
     for name in ("bias", "zone_lower", "zone_upper"):
         if getattr(s, f"{name}_{other}") is not None:
-            raise ConfigError(f"{where}.{name}_{other}: this source is in {want}; use {name}_{want}")
+            raise ConfigError(
+                f"{where}.{name}_{other}: this source is in {want}; use {name}_{want}"
+            )
 
     def conv(v: float | None) -> float | None:
         if v is None:
@@ -159,17 +167,19 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
                 )
             except ValueError as exc:
                 raise ConfigError(str(exc)) from None
-            if process.target not in {s.key for s in design.mechanism.sources}:
+            own = {s.key for s in design.mechanism.sources}
+            if process.target not in own:
+                ok = ", ".join(k for k in "rn" if k in own)
                 raise ConfigError(
                     f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
-                    f" has no such profile source; allowed: {', '.join(k for k in 'rn' if k in units)}"
+                    f" has no such profile source; allowed: {ok}"
                 )
         elif key == "default":
             default = _source(value, where, "mm")
-            if any(
-                v is not None
-                for v in (default.zone_lower, default.zone_upper)
-            ) or default.bias != 0.0:
+            if (
+                any(v is not None for v in (default.zone_lower, default.zone_upper))
+                or default.bias != 0.0
+            ):
                 raise ConfigError(
                     f"{where}: bias and zone depend on the source; give them per source"
                 )
@@ -184,7 +194,7 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
 
 
 def statistical_model(design: CamDesign) -> StatisticalModel:
-    """The statistical model of a design: its ``[statistics]`` table, or the defaults.
+    """Return the statistical model of a design: its ``[statistics]`` table or defaults.
 
     Parameters
     ----------

@@ -43,7 +43,6 @@ from camtol.tolerancing.results import (
     AngleStatistics,
     ComparisonRow,
     Contribution,
-    LinearExactDifference,
     MonteCarloResult,
     Summary,
     YieldEstimate,
@@ -102,8 +101,7 @@ def prepare(
     plan = make_plan(design, model, tolerances)
     if plan.columns == 0:
         raise DesignError(
-            f"design {design.name!r} has no [tolerances] and no profile process: nothing to"
-            " sample"
+            f"design {design.name!r} has no [tolerances] and no profile process: nothing to sample"
         )
     sens = sensitivity_matrices(design, plan, theta, left)
     unit, scale = display_scale(design)
@@ -286,10 +284,8 @@ def monte_carlo(
     return _linear_result(study, lspec, totals, band)
 
 
-def _summary_from_hist(counts: FloatArray, top: float, mean: float, std: float) -> Summary:
-    q = lin.hist_quantiles(
-        counts[None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), PROBS
-    )
+def _summary_from_hist(counts: lin.IntArray, top: float, mean: float, std: float) -> Summary:
+    q = lin.hist_quantiles(counts[None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), PROBS)
     return Summary(mean, std, float(q[0][0]), float(q[1][0]), float(q[2][0]))
 
 
@@ -314,7 +310,9 @@ def worst_angle(
     return int(np.argmin(np.minimum(band[1] - q_high, q_low - band[0])))
 
 
-def comparison_rows(study: Study, label_q9973: list[float], combined_mc: float) -> tuple[ComparisonRow, ...]:
+def comparison_rows(
+    study: Study, label_q9973: list[float], combined_mc: float
+) -> tuple[ComparisonRow, ...]:
     """Worst case, RSS and MC 99.73 % per source and combined (display units)."""
     g = study.sens["lift"]
     s = study.scale
@@ -362,7 +360,7 @@ def _linear_result(
         mean = g @ xmean
         std = np.sqrt(np.maximum(((g @ cov) * g).sum(axis=1), 0.0))
         mu, sd = max_stats[q]
-        ma = _summary_from_hist(totals.max_hist[q].astype(float), spec.max_top[q], mu, sd)
+        ma = _summary_from_hist(totals.max_hist[q], spec.max_top[q], mu, sd)
         stats[q] = AngleStatistics(
             q,
             unit,
@@ -383,9 +381,7 @@ def _linear_result(
     elif band is not None:
         y = YieldEstimate.of(totals.passed_band, n_tot, "lower <= dS <= upper at every angle")
     shares = variance_shares(study)
-    i = worst_angle(
-        lift.q00135 / study.scale, lift.q99865 / study.scale, band
-    )
+    i = worst_angle(lift.q00135 / study.scale, lift.q99865 / study.scale, band)
     contributions = tuple(
         sorted(
             (Contribution(lab, float(v[i])) for lab, v in shares.items()),

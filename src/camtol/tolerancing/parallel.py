@@ -31,7 +31,7 @@ def _client(scheduler: Any) -> tuple[Any, bool]:
             " tcp://host:8786 or a dask.distributed.Client"
         )
     try:
-        return Client(scheduler, timeout="10s"), True
+        return Client(scheduler, timeout="10s"), True  # type: ignore[no-untyped-call]
     except (OSError, TimeoutError, ValueError) as exc:
         raise DesignError(f"scheduler={scheduler!r}: cannot connect ({exc})") from None
 
@@ -62,7 +62,7 @@ def run_on_dask(
         remote = client.scatter(spec, broadcast=True)
         futures = [client.submit(lin.run_task, remote, t, pure=False) for t in tasks]
         done = 0
-        for fut in as_completed(futures):
+        for fut in as_completed(futures):  # type: ignore[no-untyped-call]
             fut.result()
             done += 1
             if progress is not None:

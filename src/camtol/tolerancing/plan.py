@@ -93,7 +93,13 @@ class SamplingPlan:
         return len(self.distributions) + (self.process.uniforms if self.process else 0)
 
     def sample(self, u: FloatArray) -> FloatArray:
-        """Sample rows from uniforms (shape (samples, uniforms)). [mm or rad]"""
+        """Sample rows from uniforms. [mm or rad]
+
+        Parameters
+        ----------
+        u : ndarray, shape (samples, uniforms)
+            Uniform variates in (0, 1). [-]
+        """
         nd = len(self.distributions)
         cols = [d.ppf(u[:, j]) for j, d in enumerate(self.distributions)]
         x = np.column_stack(cols) if cols else np.empty((u.shape[0], 0))
@@ -132,7 +138,7 @@ class SamplingPlan:
 def make_plan(
     design: CamDesign, model: StatisticalModel, tolerances: tuple[ResolvedTolerance, ...]
 ) -> SamplingPlan:
-    """The sampling plan of a design's toleranced sources and its process.
+    """Build the sampling plan of a design's toleranced sources and its process.
 
     Parameters
     ----------
@@ -207,17 +213,19 @@ def sensitivity_matrices(
     if p is not None:
         s = err.sources[p.target]
         g0, g1, g2 = (a[:, None] for a in (s.delta_lift, s.delta_velocity, s.delta_acceleration))
-        psi = contact_polar_angle(design.mechanism, design.program, theta_rad, left_limit=left_limit)
-        k = p.orders[None, :]
-        kp = k * psi.v[:, None]
+        psi = contact_polar_angle(
+            design.mechanism, design.program, theta_rad, left_limit=left_limit
+        )
+        order = p.orders[None, :]
+        kp = order * psi.v[:, None]
         p1, p2 = psi.d1[:, None], psi.d2[:, None]
-        for trig in ("cos", "sin"):
-            if trig == "cos":
+        for which in ("cos", "sin"):
+            if which == "cos":
                 h0, dh = np.cos(kp), -np.sin(kp)
             else:
                 h0, dh = np.sin(kp), np.cos(kp)
-            h1 = k * dh * p1
-            h2 = -k * k * h0 * p1 * p1 + k * dh * p2
+            h1 = order * dh * p1
+            h2 = -order * order * h0 * p1 * p1 + order * dh * p2
             out["lift"].append(g0 * h0)
             out["velocity"].append(g1 * h0 + g0 * h1)
             out["acceleration"].append(g2 * h0 + 2 * g1 * h1 + g0 * h2)
@@ -226,7 +234,7 @@ def sensitivity_matrices(
 
 
 def display_scale(design: CamDesign, quantity: Quantity = "lift") -> tuple[str, float]:
-    """(unit, factor) turning internal output errors into the ``analyze`` display unit."""
+    """Return (unit, factor) turning internal output errors into display units."""
     if design.mechanism.output == "translating":
         unit, scale = "um", 1e3
     else:

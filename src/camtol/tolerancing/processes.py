@@ -38,6 +38,10 @@ ProcessTarget = Literal["r", "n"]
 MAX_ORDER = 720
 
 
+def _shortest_deg() -> float:
+    return math.degrees(math.sqrt(2 * math.log(1e8)) / MAX_ORDER)
+
+
 @dataclass(frozen=True)
 class ProfileProcess:
     """A random periodic profile error (radial ``r`` or normal ``n``).
@@ -80,7 +84,7 @@ class ProfileProcess:
             if self._stationary_orders() > MAX_ORDER:
                 raise DesignError(
                     f"{where}.correlation_deg={c:g} needs more than {MAX_ORDER} harmonics;"
-                    f" the shortest allowed is {math.degrees(math.sqrt(2 * math.log(1e8)) / MAX_ORDER):.3g}°"
+                    f" the shortest allowed is {_shortest_deg():.3g}°"
                 )
         for k, a in self.harmonics:
             if not (isinstance(k, int) and 1 <= k <= MAX_ORDER):
@@ -114,7 +118,7 @@ class ProfileProcess:
         return 2 * self.orders.size
 
     def coefficient_std_mm(self) -> FloatArray:
-        """Standard deviation of each a_k (= of b_k) of a stationary process. [mm]"""
+        """Return the standard deviation of each a_k (= of b_k), stationary process. [mm]"""
         el = math.radians(float(self.correlation_deg or 1.0))
         k = self.orders
         c = np.exp(-0.5 * (k * k - 1.0) * el * el)
@@ -170,7 +174,11 @@ class ProfileProcess:
 
 
 def contact_polar_angle(
-    mechanism: Mechanism, program: MotionProgram, theta_rad: FloatArray, *, left_limit: object = None
+    mechanism: Mechanism,
+    program: MotionProgram,
+    theta_rad: FloatArray,
+    *,
+    left_limit: object = None,
 ) -> Jet:
     """Polar angle ψ(θ) of the contact point A(θ) in the cam frame, with dψ/dθ, d²ψ/dθ².
 

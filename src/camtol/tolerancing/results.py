@@ -83,7 +83,17 @@ class YieldEstimate:
 
     @classmethod
     def of(cls, passed: int, samples: int, spec: str) -> YieldEstimate:
-        """Estimate with the exact (Clopper-Pearson) binomial 95 % interval."""
+        """Estimate with the exact (Clopper-Pearson) binomial 95 % interval.
+
+        Parameters
+        ----------
+        passed : int
+            Samples meeting the spec.
+        samples : int
+            Samples drawn.
+        spec : str
+            The spec, in words.
+        """
         from scipy.stats import beta
 
         lo = 0.0 if passed == 0 else float(beta.ppf(0.025, passed, samples - passed + 1))
@@ -186,7 +196,7 @@ class MonteCarloResult:
         return self.statistics["lift"].unit
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``camtol montecarlo --json`` object (strict JSON; keys in the docs)."""
+        """Return the ``camtol montecarlo --json`` object (strict JSON; keys in the docs)."""
         lift = self.statistics["lift"]
         out: dict[str, Any] = {
             "design": self.design_name,
