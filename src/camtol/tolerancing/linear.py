@@ -1,7 +1,7 @@
 """Linear-mode Monte Carlo engine: chunked GEMM of sensitivities × samples (THEORY §3).
 
 For each chunk of samples X (rows), ΔS = G Xᵀ (angles × samples) is formed block by block
-in float32 (bounded memory: one block of ``BLOCK_ANGLES`` angles × one chunk at a time) and reduced at once:
+in float32 (bounded memory: ``BLOCK_ANGLES`` angles × one chunk at a time) and reduced:
 
 - per angle, a histogram of ΔS over a fixed range that holds every sample (the worst-case
   range of the bounded columns, ±8σ for unbounded ones): the quantiles are read from it
