@@ -118,15 +118,16 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
     out = _empty(spec)
     plan = spec.plan
     n = next(iter(spec.sens.values())).shape[0]
-    offs = (np.arange(BLOCK_ANGLES, dtype=np.intp) * ANGLE_BINS)[:, None]
+    offs = (np.arange(BLOCK_ANGLES, dtype=np.int32) * ANGLE_BINS)[:, None]
     g32 = {q: np.ascontiguousarray(g, dtype=np.float32) for q, g in spec.sens.items()}
-    scaled = {
-        q: np.ascontiguousarray(
-            np.hstack([g / spec.width[q][:, None], (-spec.lower[q] / spec.width[q])[:, None]]),
-            dtype=np.float32,
-        )
-        for q, g in spec.sens.items()
+    inv_w = {
+        q: np.ascontiguousarray((1.0 / spec.width[q])[:, None], dtype=np.float32) for q in spec.sens
     }
+    off = {
+        q: np.ascontiguousarray((-spec.lower[q] / spec.width[q])[:, None], dtype=np.float32)
+        for q in spec.sens
+    }
+    buf = np.empty((BLOCK_ANGLES, CHUNK), np.float32)
     gmax = np.abs(spec.sens["lift"])
     for c in chunks:
         start = c * CHUNK
@@ -146,7 +147,6 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
                 _bins(lab, float(spec.label_top[j])), minlength=MAX_BINS
             )
         xt = np.ascontiguousarray(x.T, dtype=np.float32)
-        xa = np.vstack([xt, np.ones((1, size), np.float32)])
         ok_band = np.ones(size, bool)
         for q in spec.sens:
             top = np.full(size, -np.inf, dtype=np.float32)
@@ -162,10 +162,13 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
                 if q == "lift" and spec.band is not None:
                     lo, hi = spec.band
                     ok_band &= np.all((d >= lo[a0:a1, None]) & (d <= hi[a0:a1, None]), axis=0)
-                u = scaled[q][a0:a1] @ xa
+                # Bin coordinates (ΔS − lower)/width, in place of a second product (a
+                # K = columns + 1 GEMM hits a slow multithreaded OpenBLAS path).
+                u = np.multiply(d, inv_w[q][a0:a1], out=buf[: a1 - a0, :size])
+                u += off[q][a0:a1]
                 np.maximum(u, 0.0, out=u)
                 np.minimum(u, ANGLE_BINS - 1, out=u)
-                idx = u.astype(np.intp)
+                idx = u.astype(np.int32)  # float32 → int32 is vectorised; → int64 is not
                 idx += offs[: a1 - a0]
                 hist[a0 * ANGLE_BINS : a1 * ANGLE_BINS] += np.bincount(
                     idx.ravel(), minlength=(a1 - a0) * ANGLE_BINS
