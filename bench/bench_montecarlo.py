@@ -28,14 +28,14 @@ def _rss_gib() -> float:
 
 def machine_speed() -> tuple[float, float]:
     """(GEMM GFLOP/s of a 3605×4×512 float32 product, copy bandwidth GB/s)."""
-    g = np.random.default_rng(0).standard_normal((3605, 4)).astype(np.float32)
-    x = np.random.default_rng(1).standard_normal((4, 512)).astype(np.float32)
+    g = np.random.default_rng(0).standard_normal((3605, 3)).astype(np.float32)
+    x = np.random.default_rng(1).standard_normal((3, 512)).astype(np.float32)
     out = np.empty((3605, 512), np.float32)
     reps = 200
     t = time.perf_counter()
     for _ in range(reps):
         np.matmul(g, x, out=out)
-    gemm = 2 * 3605 * 4 * 512 * reps / (time.perf_counter() - t) / 1e9
+    gemm = 2 * 3605 * 3 * 512 * reps / (time.perf_counter() - t) / 1e9
     a = np.ones(2**24)
     b = np.empty_like(a)
     t = time.perf_counter()
@@ -53,8 +53,9 @@ def bench_linear(samples: int) -> None:
     r = monte_carlo(d, samples, seed=1, spec=0.022, workers=workers)
     dt = time.perf_counter() - t
     n = r.theta_deg.size
-    flops = 2 * 2 * samples * n * 4  # two GEMMs (ΔS and histogram bins), 3 sources + 1
-    bytes_ = 2 * samples * n * 4 * 6  # ~6 float32/int passes over ΔS per sample block
+    m = 3  # columns: r, e, phi
+    flops = 2 * samples * n * m  # the GEMM ΔS = G Xᵀ
+    bytes_ = samples * n * 4  # the float32 ΔS matrix, written once (then reduced in cache)
     scaled = dt * 1e6 / samples
     print(
         f"linear: {samples:.0e} samples × {n} angles in {dt:.2f} s on {workers} threads"
@@ -89,7 +90,7 @@ def bench_allocation() -> None:
     d = dataclasses.replace(d, tolerances=tuple(ToleranceSpec(k, grade="IT7") for k in keys))
     for crit, samples in (("worst_case", 1), ("rss", 1), ("monte_carlo", 4000)):
         t = time.perf_counter()
-        a = allocate(d, math.radians(0.05), criterion=crit, samples=samples, verify_samples=20000)
+        a = allocate(d, math.radians(0.08), criterion=crit, samples=samples, verify_samples=20000)
         dt = time.perf_counter() - t
         target = 60 if crit == "monte_carlo" else 5
         print(

@@ -167,23 +167,30 @@ def _execute(
         tuple(range(i, min(i + chunks_per_task, spec.chunks)))
         for i in range(0, spec.chunks, chunks_per_task)
     ]
-    parts: list[lin.LinearTotals] = []
+    total: lin.LinearTotals | None = None
+    done = 0
+
+    def fold(part: lin.LinearTotals) -> None:
+        # Fold each task into the total as it arrives (memory stays one task's worth).
+        nonlocal total, done
+        total = part if total is None else lin.merge([total, part])
+        done += 1
+        if progress is not None:
+            progress(min(done * chunks_per_task * CHUNK, spec.samples), spec.samples)
+
     if scheduler is not None:
         from camtol.tolerancing.parallel import run_on_dask
 
-        parts = run_on_dask(scheduler, spec, tasks, progress)
+        run_on_dask(scheduler, spec, tasks, fold)
     elif workers <= 1 or len(tasks) == 1:
-        for i, t in enumerate(tasks):
-            parts.append(lin.run_task(spec, t))
-            if progress is not None:
-                progress(min((i + 1) * chunks_per_task * CHUNK, spec.samples), spec.samples)
+        for t in tasks:
+            fold(lin.run_task(spec, t))
     else:
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            for i, part in enumerate(pool.map(lambda t: lin.run_task(spec, t), tasks)):
-                parts.append(part)
-                if progress is not None:
-                    progress(min((i + 1) * chunks_per_task * CHUNK, spec.samples), spec.samples)
-    return lin.merge(parts)
+            for part in pool.map(lambda t: lin.run_task(spec, t), tasks):
+                fold(part)
+    assert total is not None
+    return total
 
 
 def monte_carlo(

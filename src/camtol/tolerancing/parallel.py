@@ -40,9 +40,9 @@ def run_on_dask(
     scheduler: Any,
     spec: lin.LinearSpec,
     tasks: list[tuple[int, ...]],
-    progress: Callable[[int, int], None] | None = None,
-) -> list[lin.LinearTotals]:
-    """Run the tasks on a Dask cluster and return their results in task order.
+    fold: Callable[[lin.LinearTotals], None],
+) -> None:
+    """Run the tasks on a Dask cluster, handing each result to ``fold`` as it finishes.
 
     Parameters
     ----------
@@ -52,8 +52,9 @@ def run_on_dask(
         The study, sent once to the cluster.
     tasks : list of tuple of int
         Chunk indices of each task.
-    progress : callable, optional
-        Called with (samples done, samples) as tasks finish.
+    fold : callable
+        Receives each task's result (integer sums commute; floating partials are kept
+        per chunk and folded in chunk order at the end).
     """
     from distributed import as_completed
 
@@ -61,13 +62,9 @@ def run_on_dask(
     try:
         remote = client.scatter(spec, broadcast=True)
         futures = [client.submit(lin.run_task, remote, t, pure=False) for t in tasks]
-        done = 0
         for fut in as_completed(futures):  # type: ignore[no-untyped-call]
-            fut.result()
-            done += 1
-            if progress is not None:
-                progress(min(done * len(tasks[0]) * 4096, spec.samples), spec.samples)
-        return [f.result() for f in futures]
+            fold(fut.result())
+            fut.release()
     finally:
         if owned:
             client.close()
