@@ -118,6 +118,13 @@ def _print(result: Any) -> None:
     )
     for k, v in result.sources.items():
         echo(f"  source {k:<10} {v}")
+    for q in ("velocity", "acceleration"):
+        if q in result.statistics:
+            v = result.statistics[q]
+            echo(
+                f"  max |d{q[0].upper()}| [{v.unit}]: mean {v.max_abs.mean:.4g},"
+                f" 99.865 % {v.max_abs.q99865:.4g}"
+            )
     m = s.max_abs
     echo(
         f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
@@ -155,6 +162,9 @@ def _print(result: Any) -> None:
 @click.option("--plot", metavar="FILE.png", help="Write the band figure (PNG, SVG, PDF).")
 @click.option("--scheduler", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786.")
 @click.option("--workers", type=int, default=1, show_default=True, help="Local threads.")
+@click.option(
+    "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."
+)
 def montecarlo(
     design: str | None,
     example: str | None,
@@ -169,6 +179,7 @@ def montecarlo(
     plot: str | None,
     scheduler: str | None,
     workers: int,
+    derivatives: bool,
 ) -> None:
     """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions."""
 
@@ -192,6 +203,7 @@ def montecarlo(
                 mode=mode,  # type: ignore[arg-type]
                 seed=seed,
                 spec=spec,
+                quantities=("lift", "velocity", "acceleration") if derivatives else ("lift",),
                 step_deg=step_deg,
                 workers=workers,
                 scheduler=scheduler,

@@ -139,7 +139,13 @@ def _ranges(study: Study) -> tuple[dict[str, FloatArray], dict[str, FloatArray],
         spread = 8.0 * np.sqrt((gu * gu) @ var[~bounded])
         lo = lo + centre - spread
         hi = hi + centre + spread
-        pad = 1e-9 * np.maximum(np.abs(lo) + np.abs(hi), 1e-30)
+        # Where ΔS cannot vary (e.g. ΔV in a dwell) the range is widened to a floor so
+        # that 1/width stays finite in float32.
+        span = hi - lo
+        floor = max(1e-9 * float(np.max(span)), 1e-30)
+        grow = np.maximum(span, floor) - span
+        lo, hi = lo - 0.5 * grow, hi + 0.5 * grow
+        pad = 1e-9 * (hi - lo)
         lower[q] = lo - pad
         width[q] = (hi - lo + 2 * pad) / lin.ANGLE_BINS
         top[q] = float(max(np.max(np.abs(lower[q])), np.max(np.abs(hi + pad))))
