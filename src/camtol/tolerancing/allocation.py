@@ -157,6 +157,39 @@ def allocate(
         A bad argument, or a spec no grade can meet (naming the dominant source and what
         the finest grade achieves).
     """
+    from camtol.tolerancing.montecarlo import single_threaded_blas
+
+    with single_threaded_blas():
+        return _allocate(
+            design,
+            spec,
+            criterion,
+            grades,
+            target_yield,
+            cost_exponent,
+            cost_coefficients,
+            samples,
+            verify_samples,
+            seed,
+            model,
+            step_deg,
+        )
+
+
+def _allocate(
+    design: CamDesign,
+    spec: float,
+    criterion: Criterion,
+    grades: tuple[str, ...],
+    target_yield: float,
+    cost_exponent: float,
+    cost_coefficients: dict[str, float] | None,
+    samples: int,
+    verify_samples: int,
+    seed: int,
+    model: StatisticalModel | None,
+    step_deg: float,
+) -> Allocation:
     from camtol.tolerancing.montecarlo import monte_carlo, prepare, sample_matrix
 
     if criterion not in ("worst_case", "rss", "monte_carlo"):

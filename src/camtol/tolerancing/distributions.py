@@ -217,11 +217,18 @@ class ResolvedDistribution:
             return m, v
         if not self.truncate:
             return c, self.sigma**2
-        from scipy.stats import truncnorm
+        from scipy.special import ndtr
 
+        # Truncated normal moments (closed form; avoids importing scipy.stats).
         s = self.sigma
-        m, v = truncnorm.stats((lo - c) / s, (hi - c) / s, loc=c, scale=s, moments="mv")
-        return float(m), float(v)
+        a, b = (lo - c) / s, (hi - c) / s
+        pa, pb = math.exp(-0.5 * a * a), math.exp(-0.5 * b * b)
+        pa, pb = pa / math.sqrt(2 * math.pi), pb / math.sqrt(2 * math.pi)
+        z = float(ndtr(b) - ndtr(a))
+        r = (pa - pb) / z
+        m = c + s * r
+        v = s * s * (1.0 + (a * pa - b * pb) / z - r * r)
+        return m, v
 
     def describe(self, scale: float, unit: str) -> str:
         """One-line description in display units, e.g. ``normal Cp=1 in [−19, 19] µm``.

@@ -16,8 +16,9 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -161,6 +162,19 @@ def _label_tops(study: Study) -> FloatArray:
     )
 
 
+@contextmanager
+def single_threaded_blas() -> Iterator[None]:
+    """Limit BLAS to one thread for the products of the Monte Carlo engine.
+
+    They have 3-20 columns, for which OpenBLAS's threads only cost (10-100x slower on a
+    busy machine, measured); parallelism comes from the tasks instead.
+    """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
 def _execute(
     spec: lin.LinearSpec,
     *,
@@ -188,13 +202,15 @@ def _execute(
         from camtol.tolerancing.parallel import run_on_dask
 
         run_on_dask(scheduler, spec, tasks, fold)
-    elif workers <= 1 or len(tasks) == 1:
-        for t in tasks:
-            fold(lin.run_task(spec, t))
     else:
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            for part in pool.map(lambda t: lin.run_task(spec, t), tasks):
-                fold(part)
+        with single_threaded_blas():
+            if workers <= 1 or len(tasks) == 1:
+                for t in tasks:
+                    fold(lin.run_task(spec, t))
+            else:
+                with ThreadPoolExecutor(max_workers=workers) as pool:
+                    for part in pool.map(lambda t: lin.run_task(spec, t), tasks):
+                        fold(part)
     assert total is not None
     return total
 

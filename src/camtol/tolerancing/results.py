@@ -94,10 +94,10 @@ class YieldEstimate:
         spec : str
             The spec, in words.
         """
-        from scipy.stats import beta
+        from scipy.special import betaincinv  # beta quantile, without scipy.stats
 
-        lo = 0.0 if passed == 0 else float(beta.ppf(0.025, passed, samples - passed + 1))
-        hi = 1.0 if passed == samples else float(beta.ppf(0.975, passed + 1, samples - passed))
+        lo = 0.0 if passed == 0 else float(betaincinv(passed, samples - passed + 1, 0.025))
+        hi = 1.0 if passed == samples else float(betaincinv(passed + 1, samples - passed, 0.975))
         return cls(passed / samples, (lo, hi), passed, samples, spec)
 
 
