@@ -1,103 +1,123 @@
-"""Benchmark the analytic engine on the THEORY §8.1 design (issue: foundation).
+"""Benchmark of ``analyse`` (issue 8, "Speed"): every built-in design, three grid sizes.
 
-Run: ``python bench/bench_analyze.py``. Prints, at 3,601 and 36,001 angles:
-- every error source's ΔS, ΔV, ΔA (jets: exact derivatives) via ``error_analysis``;
-- ΔS only, on plain arrays (the closed forms of THEORY §3.1);
-- the full ``analyse`` (kinematics, curves, extremes refined, max radius);
-- a deliberately plain per-angle Python loop of the same ΔS formulas, measured in the
-  same run, and the ratio. Target (not a test): all sources at 36,001 angles ≤ 10 ms.
+Run: ``python bench/bench_analyze.py``. Prints, for every built-in design, the full
+``analyse`` (kinematics, every error source's ΔS ΔV ΔA, worst case and RMS, every extreme
+refined, max radius) at 3,601 and 36,001 angles (targets 3 ms and 10 ms), and at 360,001
+angles the ratio of ``analyse`` to a plain-numpy closed-form synthesis of the same cam
+profile (THEORY §2.1, CW06 Example 1) measured in the same run (target <= 2).
+A per-angle Python loop of the ΔS formulas checks that both paths give the same numbers.
 """
 
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Callable
-from functools import partial
+import sys
+import warnings
+from pathlib import Path
 
 import numpy as np
 
-from camtol.analysis import analyse, max_radius_mm
-from camtol.config import load_example
-from camtol.errors import error_analysis
-from camtol.kinematics import analysis_grid
+sys.path.insert(0, str(Path(__file__).parent))
+
+from common import Figure, best_of, print_figures  # noqa: E402
+
+from camtol.analysis import analyse  # noqa: E402
+from camtol.config import example_names, load_example  # noqa: E402
+
+TARGETS_MS = {3_601: 3.0, 36_001: 10.0}
+RATIO_TARGET = 2.0
+
+# CW06 Example 1 (THEORY §8.1): r_b 40 mm, e 10 mm, φ 15°, cycloidal rise 22 mm over
+# 0-120°, dwell to 190°, cycloidal return over 190-290°, dwell.
+RB, E, PHI, H = 40.0, 10.0, math.radians(15.0), 22.0
+B1, D1, B2 = math.radians(120.0), math.radians(190.0), math.radians(100.0)
 
 
-def best_of(fn: Callable[[], object], repeat: int = 7) -> float:
-    """Best wall time of ``repeat`` calls. [s]"""
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+def plain_profile(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Profile points of CW06 Example 1 in plain numpy (closed form, THEORY §2.1). [mm]"""
+    s = np.zeros_like(theta)
+    v = np.zeros_like(theta)
+    rise = theta < B1
+    x = theta[rise] / B1
+    w = 2.0 * math.pi * x
+    s[rise] = H * (x - np.sin(w) / (2.0 * math.pi))
+    v[rise] = H / B1 * (1.0 - np.cos(w))
+    s[(theta >= B1) & (theta < D1)] = H
+    ret = (theta >= D1) & (theta < D1 + B2)
+    x = (theta[ret] - D1) / B2
+    w = 2.0 * math.pi * x
+    s[ret] = H - H * (x - np.sin(w) / (2.0 * math.pi))
+    v[ret] = -H / B2 * (1.0 - np.cos(w))
+    qa = (RB / math.cos(PHI) - E * math.tan(PHI) + s) * math.cos(PHI) - (v - E) * math.sin(PHI)
+    sin_t, cos_t = np.sin(theta), np.cos(theta)
+    cos_p = cos_t * math.cos(PHI) - sin_t * math.sin(PHI)  # cos(θ + φ)
+    sin_p = sin_t * math.cos(PHI) + cos_t * math.sin(PHI)  # sin(θ + φ)
+    return qa * cos_p - v * sin_t, qa * sin_p + v * cos_t
 
 
-def main() -> None:
+def loop_delta_s_r(theta: np.ndarray, dev_r: float) -> list[float]:
+    """ΔS_r = Δr cos λ / cos φ per angle in plain Python (the same formulas, a reference)."""
+    out = []
+    for t in theta.tolist():
+        if t < B1:
+            x = t / B1
+            s = H * (x - math.sin(2 * math.pi * x) / (2 * math.pi))
+            v = H / B1 * (1 - math.cos(2 * math.pi * x))
+        elif t < D1:
+            s, v = H, 0.0
+        elif t < D1 + B2:
+            x = (t - D1) / B2
+            s = H - H * (x - math.sin(2 * math.pi * x) / (2 * math.pi))
+            v = -H / B2 * (1 - math.cos(2 * math.pi * x))
+        else:
+            s, v = 0.0, 0.0
+        p, dp = RB + s * math.cos(PHI), v * math.cos(PHI)
+        out.append(dev_r * p / math.hypot(p, dp) / math.cos(PHI))
+    return out
+
+
+def main() -> list[Figure]:
+    """Run the benchmark, print its table, return its figures."""
+    warnings.simplefilter("ignore")  # pressure-angle warnings of demonstration designs
+    figures: list[Figure] = []
+    print(f"{'design':<20} {'3,601 angles':>13} {'36,001 angles':>14} {'360,001 angles':>15}")
+    for name in example_names():
+        design = load_example(name)
+        row = []
+        for n, repeat in ((3_601, 30), (36_001, 10), (360_001, 3)):
+            t = best_of(lambda d=design, n=n: analyse(d, step_deg=360.0 / (n - 1)), repeat)
+            row.append(t)
+            if n in TARGETS_MS:
+                figures.append(
+                    Figure(f"analyse {name} @ {n:,} angles", t * 1e3, "ms", TARGETS_MS[n])
+                )
+        print(f"{name:<20} {row[0] * 1e3:10.2f} ms {row[1] * 1e3:11.2f} ms {row[2] * 1e3:12.1f} ms")
+
     design = load_example("cw06-translating")
-    tols = design.resolve_tolerances(max_radius_mm(design))
-    mech = design.mechanism
-    dev = {t.key: t.deviation for t in tols}
-
-    def delta_s_plain_arrays(theta: np.ndarray) -> np.ndarray:
-        m = design.program.evaluate(theta)
-        s = mech.error_sensitivities(theta, m.lift, m.velocity)
-        return np.stack([np.asarray(s[k]) * d for k, d in dev.items()])
-
-    def python_loop(theta: np.ndarray) -> list[tuple[float, float, float]]:
-        rb, e, phi = 40.0, 10.0, math.radians(15.0)
-        h, b1, b2 = 22.0, math.radians(120), math.radians(100)
-        out = []
-        for t in theta:
-            t = float(t)
-            if t < b1:
-                x = t / b1
-                s, v = (
-                    h * (x - math.sin(2 * math.pi * x) / (2 * math.pi)),
-                    h / b1 * (1 - math.cos(2 * math.pi * x)),
-                )
-            elif t < math.radians(190):
-                s, v = h, 0.0
-            elif t < math.radians(290):
-                x = (t - math.radians(190)) / b2
-                s = h - h * (x - math.sin(2 * math.pi * x) / (2 * math.pi))
-                v = -h / b2 * (1 - math.cos(2 * math.pi * x))
-            else:
-                s, v = 0.0, 0.0
-            big_l = rb / math.cos(phi) - e * math.tan(phi) + s
-            qa = big_l * math.cos(phi) - (v - e) * math.sin(phi)
-            ax = qa * math.cos(t + phi) - v * math.sin(t)
-            ay = qa * math.sin(t + phi) + v * math.cos(t)
-            u = big_l * math.sin(phi) + (v - e) * math.cos(phi)
-            lam = math.asin(v * math.cos(phi) / math.hypot(ax, ay))
-            out.append(
-                (
-                    dev["r"] * math.cos(lam) / math.cos(phi),
-                    -dev["e"] * math.tan(phi),
-                    u * dev["phi"] / math.cos(phi),
-                )
-            )
-        return out
-
-    print(
-        f"{'angles':>8} {'ΔS,ΔV,ΔA jets':>15} {'ΔS arrays':>10} {'analyse()':>10}"
-        f" {'python loop':>12} {'loop/arrays':>12} {'loop/jets':>10}"
-    )
-    for n in (3_601, 36_001):
-        step = 360.0 / (n - 1)
-        theta, left = analysis_grid(step, design.program.boundaries_rad)
-        t_jets = best_of(partial(error_analysis, design, tols, theta, left_limit=left))
-        t_plain = best_of(partial(delta_s_plain_arrays, theta))
-        t_full = best_of(partial(analyse, design, step_deg=step), repeat=3)
-        t_loop = best_of(partial(python_loop, theta), repeat=3)
-        # same numbers from both paths (sanity, not timing)
-        ref = np.array(python_loop(theta[:2000:7])).T
-        assert np.allclose(delta_s_plain_arrays(theta[:2000:7]), ref, rtol=1e-9, atol=1e-15)
-        print(
-            f"{n:>8} {t_jets * 1e3:>12.2f} ms {t_plain * 1e3:>7.2f} ms {t_full * 1e3:>7.1f} ms"
-            f" {t_loop * 1e3:>9.1f} ms {t_loop / t_plain:>11.0f}x {t_loop / t_jets:>9.0f}x"
+    theta = np.linspace(0.0, 2.0 * math.pi, 360_001)
+    t_plain = best_of(lambda: plain_profile(theta), 5)
+    t_full = best_of(lambda: analyse(design, step_deg=0.001), 3)
+    figures.append(
+        Figure(
+            "analyse / plain-numpy profile, cw06-translating @ 360,001",
+            t_full / t_plain,
+            "x",
+            RATIO_TARGET,
+            note=f"{t_full * 1e3:.0f} ms vs {t_plain * 1e3:.1f} ms",
         )
-    print("target: all error sources at 36,001 angles <= 10 ms (ΔS, ΔV, ΔA columns above)")
+    )
+    # Same numbers (sanity, not timing): profile points and ΔS_r against the references.
+    a = analyse(design, step_deg=0.1)
+    k = a.kinematics
+    right = ~k.left_limit
+    ax, ay = plain_profile(k.theta_rad[right])
+    assert np.allclose(k.contact_x_mm[right], ax, atol=1e-9)
+    assert np.allclose(k.contact_y_mm[right], ay, atol=1e-9)
+    dev_r = next(t.deviation for t in a.tolerances if t.key == "r")
+    ref = loop_delta_s_r(k.theta_rad[right][::7], dev_r)
+    assert np.allclose(a.errors.sources["r"].delta_lift[right][::7], ref, rtol=1e-12)
+    print_figures("analyse (bench_analyze.py)", figures)
+    return figures
 
 
 if __name__ == "__main__":

@@ -1,10 +1,13 @@
-"""Benchmark of the contact engine (THEORY §5): fast sweep against brute force.
+"""Benchmark of the contact engine (THEORY §5): fast sweep against a fair brute force.
 
 Run ``python bench/bench_contact.py``. The exact lift of a translating flat-faced follower
 on a 36,000-vertex convex polygon (the CW06 Example 1 cam sampled at 36,000 points) at
 36,000 cam angles, by the convex-hull sweep of :meth:`PolygonShape.support` (hull built
 inside the timing) and by a brute-force O(N·M) evaluation of the same formula, in the same
-run. Acceptance (issue 4): fast path ≥ 100× faster and ≤ 50 ms.
+run. The brute force is cache-blocked (blocks of directions × vertices whose dot products
+fit in a core's cache, computed by matrix products, a running maximum per direction; the
+fastest of a few block shapes is used), so the ratio is against a fair brute force, not a
+deliberately slow one. Acceptance (issue 4): fast path ≥ 100× faster and ≤ 50 ms.
 """
 
 from __future__ import annotations
@@ -13,13 +16,18 @@ import math
 import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
-from camtol.config import load_example
-from camtol.contact.engine import follow
-from camtol.contact.flat import follow_flat_translating
-from camtol.contact.shapes import AnalyticShape, PolygonShape
+sys.path.insert(0, str(Path(__file__).parent))
+
+from common import Figure, print_figures  # noqa: E402
+
+from camtol.config import load_example  # noqa: E402
+from camtol.contact.engine import follow  # noqa: E402
+from camtol.contact.flat import follow_flat_translating  # noqa: E402
+from camtol.contact.shapes import AnalyticShape, PolygonShape  # noqa: E402
 
 N_VERTICES = 36_000
 N_ANGLES = 36_000
@@ -34,7 +42,25 @@ def best_of(fn: Callable[[], object], repeat: int) -> tuple[float, object]:
     return best, out
 
 
-def main() -> int:
+def support_blocked(
+    psi_rad: np.ndarray, vertices_mm: np.ndarray, rows: int, cols: int
+) -> np.ndarray:
+    """max over vertices of v·(cos ψ, sin ψ), cache-blocked brute force, O(N·M). [mm]"""
+    d = np.stack([np.cos(psi_rad), np.sin(psi_rad)], axis=1)
+    vt = np.ascontiguousarray(vertices_mm.T)
+    out = np.full(psi_rad.size, -np.inf)
+    buf = np.empty((rows, cols))
+    for i in range(0, psi_rad.size, rows):
+        di = d[i : i + rows]
+        best = out[i : i + rows]
+        for j in range(0, vt.shape[1], cols):
+            blk = vt[:, j : j + cols]
+            dots = np.matmul(di, blk, out=buf[: di.shape[0], : blk.shape[1]])
+            np.maximum(best, dots.max(axis=1), out=best)
+    return out
+
+
+def main() -> list[Figure]:
     design = load_example("cw06-translating")
     mech = design.mechanism
     pts = AnalyticShape(mech, design.program, samples=N_VERTICES).polygon.vertices_mm
@@ -44,13 +70,17 @@ def main() -> int:
         shape = PolygonShape(pts)  # fresh: the hull is built inside the timing
         return follow_flat_translating(theta, shape, mech).lift  # type: ignore[arg-type]
 
-    shape_b = PolygonShape(pts)
+    phi, e = mech.face_angle_rad, mech.offset_mm  # type: ignore[attr-defined]
+    zero = mech.base_radius_mm / math.cos(phi) - e * math.tan(phi)  # type: ignore[attr-defined]
+    psi = theta + phi
+    # Pick the fastest block shape on a tenth of the directions (not timed below).
+    shapes = [(64, 4096), (128, 2048), (256, 1024), (32, 8192)]
+    pick = {b: best_of(lambda b=b: support_blocked(psi[::10], pts, *b), 1)[0] for b in shapes}
+    block = min(pick, key=lambda b: pick[b])
 
     def brute() -> np.ndarray:
-        sup = shape_b.support_bruteforce(theta + mech.face_angle_rad)  # type: ignore[attr-defined]
-        phi, e = mech.face_angle_rad, mech.offset_mm  # type: ignore[attr-defined]
-        zero = mech.base_radius_mm / math.cos(phi) - e * math.tan(phi)  # type: ignore[attr-defined]
-        return np.asarray((sup.h_mm - e * math.sin(phi)) / math.cos(phi) - zero)
+        h = support_blocked(psi, pts, *block)
+        return np.asarray((h - e * math.sin(phi)) / math.cos(phi) - zero)
 
     t_fast, s_fast = best_of(fast, 7)
     t_brute, s_brute = best_of(brute, 1)
@@ -61,7 +91,7 @@ def main() -> int:
         f" {N_VERTICES} vertices x {N_ANGLES} angles"
     )
     print(f"  fast (hull + sweep):  {t_fast * 1e3:9.2f} ms  (best of 7)")
-    print(f"  brute force O(N*M):   {t_brute * 1e3:9.2f} ms")
+    print(f"  brute force O(N*M):   {t_brute * 1e3:9.2f} ms  (cache-blocked {block[0]}x{block[1]})")
     print(f"  ratio:                {ratio:9.1f} x   (required >= 100)")
     print(f"  max |fast - brute|:   {diff:.3e} mm")
 
@@ -99,17 +129,27 @@ def main() -> int:
                 out[i] = best
             return out
 
-        psi = theta + mech.face_angle_rad  # type: ignore[attr-defined]
         brute_numba(psi[:10], pts)  # compile
         t_nb, h_nb = best_of(lambda: brute_numba(psi, pts), 1)
         print(
             f"  brute force, numba:   {t_nb * 1e3:9.2f} ms  (compiled O(N*M) loop; "
             f"fast path still {t_nb / t_fast:.0f}x faster)"
         )
-    ok = ratio >= 100.0 and t_fast <= 0.050 and diff < 1e-9
-    print("PASS" if ok else "FAIL")
-    return 0 if ok else 1
+    assert diff < 1e-9, f"fast and brute-force lifts differ by {diff:.3g} mm"
+    figures = [
+        Figure("contact: hull sweep, 36,000 vertices x 36,000 angles", t_fast * 1e3, "ms", 50.0),
+        Figure(
+            "contact: cache-blocked brute force / hull sweep",
+            ratio,
+            "x",
+            100.0,
+            at_least=True,
+            note=f"{t_brute * 1e3:.0f} ms vs {t_fast * 1e3:.1f} ms",
+        ),
+    ]
+    print_figures("contact engine (bench_contact.py)", figures)
+    return figures
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

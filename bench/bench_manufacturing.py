@@ -77,6 +77,15 @@ def main() -> int:
     )
     print(f"  max |sweep - brute| support:    {diff:.2e} mm")
     ok &= t_cut <= 0.2
+    # Informational: roller followers need the true distance to the arcs (contact engine's
+    # windowed O(pairs) solver), not a hull.
+    for name in ("roller-translating", "roller-oscillating"):
+        rd = load_example(name)
+        t_r, _ = best_of(
+            lambda: simulate_cut(rd, 1.0, tool="cylinder", tool_radius_mm=5.0, read_step_deg=0.05),  # noqa: B023
+            2,
+        )
+        print(f"  {name} (informational, same cut and reading): {t_r * 1e3:8.1f} ms")
     # --- table precision ----------------------------------------------------------------
     pe = load_example("popa-eccentric")
     t_prec, st = best_of(lambda: table_precision(pe, decimals=[3, 4, 5, 6]), 7)

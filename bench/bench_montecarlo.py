@@ -17,6 +17,9 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(__file__))
+from common import Figure  # noqa: E402
+
 from camtol.config import load_example
 from camtol.design import ToleranceSpec
 from camtol.tolerancing import allocate, monte_carlo
@@ -45,7 +48,7 @@ def machine_speed() -> tuple[float, float]:
     return gemm, bw
 
 
-def bench_linear(samples: int) -> None:
+def bench_linear(samples: int) -> list[Figure]:
     d = load_example("cw06-translating")
     gemm, bw = machine_speed()
     workers = os.cpu_count() or 1
@@ -68,7 +71,7 @@ def bench_linear(samples: int) -> None:
     )
 
 
-def bench_exact(samples: int) -> None:
+def bench_exact(samples: int) -> list[Figure]:
     d = load_example("roller-translating")
     t = time.perf_counter()
     r = monte_carlo(d, samples, mode="exact", seed=1)
@@ -81,13 +84,14 @@ def bench_exact(samples: int) -> None:
     )
 
 
-def bench_allocation() -> None:
+def bench_allocation() -> list[Figure]:
     import dataclasses
     import math
 
     d = load_example("roller-oscillating")  # 5 sources: r, n, rf, l, f
     keys = [s.key for s in d.mechanism.sources]
     d = dataclasses.replace(d, tolerances=tuple(ToleranceSpec(k, grade="IT7") for k in keys))
+    out = []
     for crit, samples in (("worst_case", 1), ("rss", 1), ("monte_carlo", 4000)):
         t = time.perf_counter()
         a = allocate(d, math.radians(0.08), criterion=crit, samples=samples, verify_samples=20000)
@@ -98,10 +102,20 @@ def bench_allocation() -> None:
             f" {target} s, ratio {dt / target:.2f}); {a.evaluated} combinations;"
             f" grades {a.grades}"
         )
+        out.append(Figure(f"allocation {crit}, 5 sources IT5-IT12", dt, "s", float(target)))
+    return out
+
+
+def main() -> list[Figure]:
+    """Run the benchmarks (``--quick``: 1e5 linear samples, 50 exact) and return figures."""
+    quick = "--quick" in sys.argv
+    figures = bench_linear(100_000 if quick else 1_000_000)
+    figures += bench_exact(50 if quick else 200)
+    figures += bench_allocation()
+    for f in figures:
+        print(f.line())
+    return figures
 
 
 if __name__ == "__main__":
-    quick = "--quick" in sys.argv
-    bench_linear(100_000 if quick else 1_000_000)
-    bench_exact(50 if quick else 200)
-    bench_allocation()
+    main()

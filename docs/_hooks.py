@@ -52,6 +52,43 @@ def _role(match: re.Match[str]) -> str:
     return f'<autoref identifier="{target}" optional><code>{target}</code></autoref>'
 
 
-def on_page_content(html: str, **kwargs: Any) -> str:
-    """Render the reStructuredText roles and math markers left in docstrings."""
-    return _MATH.sub("", _ROLE.sub(_role, html))
+# "THEORY §x.y" in docstrings and pages cites section x.y of docs/theory.md: link it.
+_CITE = re.compile(r"(THEORY(?:\.md)?\s*)§\s*(\d+(?:\.\d+)?)")
+_TAG = re.compile(r"(<[^>]+>)")
+_sections: dict[str, str] = {}
+
+
+def on_files(files: Any, config: Any) -> Any:
+    """Read the section numbers of theory.md and their anchors (as the toc makes them)."""
+    from markdown.extensions.toc import slugify
+
+    _sections.clear()
+    theory = Path(config.docs_dir) / "theory.md"
+    if theory.is_file():
+        for line in theory.read_text(encoding="utf-8").splitlines():
+            m = re.match(r"#{2,3} ((\d+(?:\.\d+)?)[. ].*)$", line)
+            if m:
+                _sections[m.group(2)] = slugify(m.group(1), "-")
+    return files
+
+
+def _link_citations(text: str, theory_url: str) -> str:
+    def link(m: re.Match[str]) -> str:
+        anchor = _sections.get(m.group(2))
+        if anchor is None:
+            return m.group(0)
+        return f'<a href="{theory_url}#{anchor}">{m.group(0)}</a>'
+
+    # only in text between tags, never inside a tag's attributes
+    return "".join(
+        part if part.startswith("<") else _CITE.sub(link, part) for part in _TAG.split(text)
+    )
+
+
+def on_page_content(html: str, page: Any, **kwargs: Any) -> str:
+    """Render docstrings' reST roles and math markers; link "THEORY §x" citations."""
+    html = _MATH.sub("", _ROLE.sub(_role, html))
+    if page.file.src_uri == "theory.md" or not _sections:
+        return html
+    depth = page.url.count("/") if page.url else 0
+    return _link_citations(html, "../" * depth + "theory/")

@@ -23,6 +23,7 @@ CORE = [
     "design.py",
     "sources.py",
     "kinematics.py",
+    "engine.py",
     "errors.py",
     "extremes.py",
     "iso286.py",

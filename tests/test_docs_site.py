@@ -10,6 +10,9 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
+
+import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -42,14 +45,19 @@ def test_every_page_is_in_the_nav() -> None:
     assert not missing, f"nav entries without a page in docs/: {missing}"
 
 
-def test_nav_slots_are_dropped_while_absent(tmp_path: Path) -> None:
-    """The hook keeps present pages and drops absent slots (no broken links, no stubs)."""
+def _hooks() -> Any:
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("docs_hooks", DOCS / "_hooks.py")
     assert spec is not None and spec.loader is not None
     hooks = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(hooks)
+    return hooks
+
+
+def test_nav_slots_are_dropped_while_absent(tmp_path: Path) -> None:
+    """The hook keeps present pages and drops absent slots (no broken links, no stubs)."""
+    hooks = _hooks()
     (tmp_path / "index.md").write_text("# x\n", encoding="utf-8")
     (tmp_path / "api").mkdir()
     (tmp_path / "api" / "a.md").write_text("# a\n", encoding="utf-8")
@@ -60,6 +68,23 @@ def test_nav_slots_are_dropped_while_absent(tmp_path: Path) -> None:
         {"Only gone": [{"x": "gone.md"}]},
     ]
     assert hooks._keep(nav, tmp_path) == [{"Home": "index.md"}, {"API": ["api/a.md"]}]
+
+
+def test_citations_become_links() -> None:
+    """On the site, "THEORY §x.y" links to the section; tag attributes are left alone."""
+    pytest.importorskip("markdown")  # installed with MkDocs (the docs extra)
+    hooks = _hooks()
+
+    class Config:
+        docs_dir = str(DOCS)
+
+    hooks.on_files(None, Config())
+    html = '<p title="THEORY §2.3">see THEORY §2.3 and THEORY §9.9</p>'
+    out = hooks._link_citations(html, "../theory/")
+    assert out == (
+        '<p title="THEORY §2.3">see <a href="../theory/#23-translating-roller-follower">'
+        "THEORY §2.3</a> and THEORY §9.9</p>"
+    )
 
 
 def _theory_sections() -> set[str]:

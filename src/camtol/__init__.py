@@ -4,15 +4,16 @@ The public API is small; everything else lives in its own module (see the README
 
     from camtol import analyse, load_design, load_example
     result = analyse(load_example("cw06-translating"))
+
+The names below are imported on first use (PEP 562 module ``__getattr__``), so that
+``import camtol`` and ``camtol --help`` do not pay for numpy, scipy or pydantic.
 """
 
 from __future__ import annotations
 
-__version__ = "0.1.0"
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
 
-from camtol.analysis import Analysis, analyse
-from camtol.config import example_names, load_design, load_example
-from camtol.design import CamDesign, ToleranceSpec
 from camtol.exceptions import (
     CamtolError,
     ConfigError,
@@ -20,6 +21,25 @@ from camtol.exceptions import (
     GeometryError,
     UndercutError,
 )
+
+__version__ = "0.1.0"
+
+if TYPE_CHECKING:  # pragma: no cover - what the lazy names resolve to, for type checkers
+    from camtol.analysis import Analysis, analyse
+    from camtol.config import load_design, load_example
+    from camtol.design import CamDesign, ToleranceSpec
+    from camtol.examples import example_names
+
+#: Public name -> module that defines it (imported on first attribute access).
+_LAZY = {
+    "Analysis": "camtol.analysis",
+    "analyse": "camtol.analysis",
+    "CamDesign": "camtol.design",
+    "ToleranceSpec": "camtol.design",
+    "example_names": "camtol.examples",
+    "load_design": "camtol.config",
+    "load_example": "camtol.config",
+}
 
 __all__ = [
     "Analysis",
@@ -36,3 +56,18 @@ __all__ = [
     "load_design",
     "load_example",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name on first use (PEP 562)."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'camtol' has no attribute {name!r}")
+    value = getattr(import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    """List the module attributes, including the lazy public names."""
+    return sorted(set(globals()) | set(_LAZY))

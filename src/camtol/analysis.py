@@ -8,22 +8,24 @@ design gives a cam speed. :class:`Analysis` records the unit of every quantity.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
-from camtol.errors import ErrorAnalysis, error_analysis
+from camtol.engine import evaluate_engine
+from camtol.errors import ErrorAnalysis, errors_from_sensitivities
 from camtol.extremes import Extreme, find_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
 
-__all__ = ["Analysis", "Quantity", "analyse", "max_radius_mm"]
+__all__ = ["Analysis", "Curves", "Quantity", "analyse", "max_radius_mm"]
 
 #: Default analysis grid step. [deg]
 DEFAULT_STEP_DEG = 0.1
@@ -56,8 +58,8 @@ class Analysis:
         Deviations used, with how each was obtained.
     quantities : tuple of Quantity
         Reported quantities, in report order.
-    curves : dict of str to ndarray
-        Every quantity on the grid in its display unit.
+    curves : Curves
+        Every quantity on the grid in its display unit (a mapping computed when read).
     extremes : dict of str to (Extreme, Extreme)
         Global (max, min) of every quantity.
     max_radius_mm : float
@@ -76,7 +78,7 @@ class Analysis:
     errors: ErrorAnalysis
     tolerances: tuple[ResolvedTolerance, ...]
     quantities: tuple[Quantity, ...]
-    curves: dict[str, FloatArray]
+    curves: Curves
     extremes: dict[str, tuple[Extreme, Extreme]]
     max_radius_mm: float
     travel: float
@@ -106,18 +108,18 @@ def _units(design: CamDesign) -> tuple[str, float, str, str, float, float]:
     return unit, scale, f"{unit}/s", f"{unit}/s2", scale * omega, scale * omega**2
 
 
-def max_radius_mm(design: CamDesign, *, step_deg: float = 0.01) -> float:
+def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> float:
     """Maximum radial dimension |O2A| of the theoretical profile (THEORY §3.6). [mm]
 
-    Sampled every ``step_deg`` and refined on a fine grid around the best sample.
+    Sampled every ``step_deg`` and refined like every extreme of :func:`analyse`
+    (:func:`~camtol.extremes.find_extremes`), so both give the same value.
 
     Parameters
     ----------
     design : CamDesign
         The design.
     step_deg : float
-        Sampling step of the first pass; the refinement spans ±``step_deg`` around the
-        largest sample. [deg]
+        Sampling step; the refinement locates the maximum to step/1000 or better. [deg]
 
     Returns
     -------
@@ -125,11 +127,18 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = 0.01) -> float:
         Largest radial dimension of the profile. [mm]
     """
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kin = kinematics(design, theta, left_limit=left, check=False)
-    i = int(np.nanargmax(kin.radius_mm))
-    fine = theta[i] + np.linspace(-1, 1, 2001) * math.radians(step_deg)
-    r = kinematics(design, fine, check=False).radius_mm
-    return float(max(np.nanmax(r), kin.radius_mm[i]))
+    r = kinematics(design, theta, left_limit=left, check=False).radius_mm
+    return _refined_max_radius(design, theta, r, step_deg)
+
+
+def _refined_max_radius(
+    design: CamDesign, theta_rad: FloatArray, radius_mm: FloatArray, step_deg: float
+) -> float:
+    def radius(t: FloatArray) -> dict[str, FloatArray]:
+        return {"radius": kinematics(design, t, check=False).radius_mm}
+
+    top = find_extremes(theta_rad, {"radius": radius_mm}, radius, step_deg=step_deg)["radius"][0]
+    return max(top.value, float(np.nanmax(radius_mm)))
 
 
 def _quantities(
@@ -162,51 +171,144 @@ def _quantities(
     return tuple(q)
 
 
-def _evaluate(
-    design: CamDesign,
-    tolerances: tuple[ResolvedTolerance, ...],
+class Curves(Mapping[str, FloatArray]):
+    """Every reported quantity on the grid in its display unit, computed when read.
+
+    Nothing is stored but references to the internal-unit results, so a fine grid costs
+    no second copy of every curve; each look-up returns a new array (or the kinematics'
+    own array when no conversion is needed).
+    """
+
+    def __init__(
+        self, design: CamDesign, kin: Kinematics, err: ErrorAnalysis, radial: FloatArray
+    ) -> None:
+        self._design, self._kin, self._err, self._radial = design, kin, err, radial
+        keys = ["pressure_angle", "shift_angle", "radius", "curvature_radius", "radial_factor"]
+        if kin.face_contact_mm is not None:
+            keys.append("face_contact")
+        for key in err.sources:
+            keys += [f"dS_{key}", f"dV_{key}", f"dA_{key}"]
+        keys += ["dS_worst", "dS_rms", "dV_worst", "dV_rms", "dA_worst", "dA_rms"]
+        self._keys = tuple(keys)
+
+    def internal(self, key: str) -> tuple[FloatArray, float]:
+        """(internal-unit array, factor to the display unit) of a quantity.
+
+        Parameters
+        ----------
+        key : str
+            Quantity key, e.g. ``"dS_worst"``.
+
+        Returns
+        -------
+        tuple of (ndarray, float)
+            The curve is ``array * factor``; for a source's ΔS, ΔV, ΔA the array is its
+            sensitivity and the factor includes the deviation (it may be negative).
+        """
+        return self._array(key), self.factor(key)
+
+    def factor(self, key: str) -> float:
+        """Factor from the internal array of :meth:`internal` to the display unit.
+
+        Parameters
+        ----------
+        key : str
+            Quantity key.
+
+        Returns
+        -------
+        float
+            Display value = internal value × factor. [display unit per internal unit]
+        """
+        if key not in self._keys:
+            raise KeyError(key)
+        deg = 180.0 / math.pi
+        if key in ("pressure_angle", "shift_angle"):
+            return deg
+        if key in ("radius", "curvature_radius", "face_contact"):
+            return 1.0
+        if key == "radial_factor":
+            return 1.0 if self._design.mechanism.output == "translating" else deg
+        _, scale, _, _, vscale, ascale = _units(self._design)
+        prefix, name = key.split("_", 1)
+        factor = (scale, vscale, ascale)["SVA".index(prefix[1])]
+        if name in ("worst", "rms"):
+            return factor
+        return factor * self._err.sources[name].deviation
+
+    def _array(self, key: str) -> FloatArray:
+        if key not in self._keys:
+            raise KeyError(key)
+        kin, err = self._kin, self._err
+        fixed = {
+            "pressure_angle": kin.pressure_angle_rad,
+            "shift_angle": kin.shift_angle_rad,
+            "radius": kin.radius_mm,
+            "curvature_radius": kin.curvature_radius_mm,
+            "face_contact": kin.face_contact_mm,
+            "radial_factor": self._radial,
+        }
+        if key in fixed:
+            out = fixed[key]
+            assert out is not None
+            return out
+        prefix, name = key.split("_", 1)
+        order = "SVA".index(prefix[1])
+        if name == "worst":
+            return err.worst(order)
+        if name == "rms":
+            return err.rms(order)
+        src = err.sources[name]
+        return np.asarray((src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order])
+
+    def __getitem__(self, key: str) -> FloatArray:
+        array, factor = self.internal(key)
+        return array if factor == 1.0 else np.asarray(array * factor)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys)
+
+    def __len__(self) -> int:
+        return len(self._keys)
+
+
+def _extremes(
+    curves: Curves,
+    keys: list[str],
+    evaluate: Callable[[FloatArray], Curves],
     theta_rad: FloatArray,
-    left_limit: NDArray[np.bool_] | None = None,
-    *,
-    check: bool = True,
-) -> tuple[Kinematics, ErrorAnalysis, dict[str, FloatArray]]:
-    kin = kinematics(design, theta_rad, left_limit=left_limit, check=check)
-    err = error_analysis(design, tolerances, theta_rad, left_limit=left_limit)
-    unit, scale, _, _, vscale, ascale = _units(design)
-    deg = 180.0 / math.pi
-    radial = (
-        err.sources["r"].sensitivity
-        if "r" in err.sources
-        else _radial_sensitivity(design, theta_rad, left_limit)
-    )
-    curves: dict[str, FloatArray] = {
-        "pressure_angle": kin.pressure_angle_rad * deg,
-        "shift_angle": kin.shift_angle_rad * deg,
-        "radius": kin.radius_mm,
-        "curvature_radius": kin.curvature_radius_mm,
-        "radial_factor": radial if design.mechanism.output == "translating" else radial * deg,
-    }
-    if kin.face_contact_mm is not None:
-        curves["face_contact"] = kin.face_contact_mm
-    for key, src in err.sources.items():
-        curves[f"dS_{key}"] = src.delta_lift * scale
-        curves[f"dV_{key}"] = src.delta_velocity * vscale
-        curves[f"dA_{key}"] = src.delta_acceleration * ascale
-    curves["dS_worst"] = err.worst_lift * scale
-    curves["dS_rms"] = err.rms_lift * scale
-    curves["dV_worst"] = err.worst_velocity * vscale
-    curves["dV_rms"] = err.rms_velocity * vscale
-    curves["dA_worst"] = err.worst_acceleration * ascale
-    curves["dA_rms"] = err.rms_acceleration * ascale
-    return kin, err, curves
+    step_deg: float,
+) -> dict[str, tuple[Extreme, Extreme]]:
+    """Extremes of the display curves, found on the internal arrays and then converted."""
+    factors = {k: curves.factor(k) for k in keys}
 
+    def values(c: Curves) -> dict[str, FloatArray]:
+        return {k: c._array(k) if factors[k] != 0.0 else c[k] for k in keys}
 
-def _radial_sensitivity(
-    design: CamDesign, theta_rad: FloatArray, left_limit: NDArray[np.bool_] | None
-) -> FloatArray:
-    unit_r = ResolvedTolerance("r", 1.0, "mm", "unit")
-    e = error_analysis(design, (unit_r,), theta_rad, left_limit=left_limit)
-    return e.sources["r"].sensitivity
+    class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
+        def __getitem__(self, key: str) -> FloatArray:
+            return curves._array(key) if factors[key] != 0.0 else curves[key]
+
+        def __iter__(self) -> Iterator[str]:
+            return iter(keys)
+
+        def __len__(self) -> int:
+            return len(keys)
+
+    found = find_extremes(theta_rad, _Lazy(), lambda t: values(evaluate(t)), step_deg=step_deg)
+    out = {}
+    for key, (hi, lo) in found.items():
+        f = factors[key]
+        if f == 0.0:
+            out[key] = (hi, lo)
+            continue
+        if f < 0.0:
+            hi, lo = lo, hi
+        out[key] = (
+            dataclasses.replace(hi, kind="max", value=hi.value * f),
+            dataclasses.replace(lo, kind="min", value=lo.value * f),
+        )
+    return out
 
 
 def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
@@ -232,20 +334,31 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     """
     check_step(step_deg, name="step_deg")
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    # Check the geometry first so an invalid design fails before anything else.
-    kinematics(design, theta, left_limit=left, check=True)
-    rmax = max_radius_mm(design)
-    tolerances = design.resolve_tolerances(rmax)
-    kin, err, curves = _evaluate(design, tolerances, theta, left, check=False)  # checked above
+    # One evaluation of the engine on the grid; it checks the geometry first, so an
+    # invalid design fails before anything else.
+    kin, sens = evaluate_engine(design, theta, left, check=True)
+    # Tolerances from the grid's largest radius, confirmed below with the refined one.
+    tolerances = design.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
+    while True:
+        err = errors_from_sensitivities(theta, left, sens, tolerances)
+        curves = Curves(design, kin, err, sens["r"].v)
+        keys = [q.key for q in _quantities(design, tolerances)]
+
+        def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
+            k, s = evaluate_engine(design, t, check=False)
+            e = errors_from_sensitivities(t, k.left_limit, s, tols)
+            return Curves(design, k, e, s["r"].v)
+
+        extremes = _extremes(curves, keys, evaluate, theta, step_deg)
+        rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
+        final = design.resolve_tolerances(rmax)
+        if [t.deviation for t in final] == [t.deviation for t in tolerances]:
+            tolerances = final
+            break
+        tolerances = final  # the refined radius moved an IT grade to another size band
     quantities = _quantities(design, tolerances)
-    keys = [q.key for q in quantities]
-
-    def evaluate(t: FloatArray) -> dict[str, FloatArray]:
-        return {
-            k: v for k, v in _evaluate(design, tolerances, t, check=False)[2].items() if k in keys
-        }
-
-    extremes = find_extremes(theta, {k: curves[k] for k in keys}, evaluate, step_deg=step_deg)
+    err = errors_from_sensitivities(theta, left, sens, tolerances)
+    curves = Curves(design, kin, err, sens["r"].v)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)

@@ -8,15 +8,17 @@ succeeded, and atomically (no half-written output).
 
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import sys
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
 import click
+from click.utils import make_default_short_help
 
 from camtol import __version__
 from camtol.exceptions import CamtolError
@@ -151,7 +153,57 @@ def design_options(f: F) -> F:
     return f
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class LazyGroup(click.Group):
+    """A click group whose commands from other modules are imported only when run.
+
+    ``camtol --help`` lists them from :data:`LAZY_COMMANDS` (module, attribute, short
+    help) without importing their modules; a test checks that each short help is the
+    command's own.
+    """
+
+    def __init__(
+        self, *args: Any, lazy_commands: Mapping[str, tuple[str, str, str]], **kwargs: Any
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        self.lazy_commands = dict(lazy_commands)
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        """Eager and lazy command names, sorted."""
+        return sorted(set(super().list_commands(ctx)) | set(self.lazy_commands))
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        """Return a command, importing its module the first time it is asked for."""
+        if cmd_name in self.lazy_commands and cmd_name not in self.commands:
+            module, attr, _ = self.lazy_commands[cmd_name]
+            self.add_command(getattr(importlib.import_module(module), attr), cmd_name)
+        return super().get_command(ctx, cmd_name)
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """Write the command table of ``--help`` without importing the lazy commands."""
+        rows = []
+        for name in self.list_commands(ctx):
+            cmd = self.commands.get(name)
+            if cmd is None:
+                limit = formatter.width - 6 - len(name)
+                rows.append((name, make_default_short_help(self.lazy_commands[name][2], limit)))
+            elif not cmd.hidden:
+                rows.append((name, cmd.get_short_help_str(formatter.width - 6 - len(name))))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
+
+#: Commands living in their own modules: name -> (module, attribute, help summary, i.e.
+#: the first paragraph of the command's docstring; tests/test_cli_lazy.py checks it).
+#: Registered in :func:`_register_subcommands`.
+LAZY_COMMANDS: dict[str, tuple[str, str, str]] = {}
+
+
+@click.group(
+    cls=LazyGroup,
+    lazy_commands=LAZY_COMMANDS,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
 @click.version_option(__version__, prog_name="camtol")
 def cli() -> None:
     """Precision disk cams: design, tolerance, inspection and manufacturing.
@@ -256,7 +308,7 @@ def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None
 def examples(ctx: click.Context) -> None:
     """List the built-in example designs (`camtol examples show NAME` prints one)."""
     if ctx.invoked_subcommand is None:
-        from camtol.config import example_names, example_summary
+        from camtol.examples import example_names, example_summary
 
         for name in example_names():
             click.echo(f"{name:20s} {example_summary(name)}")
@@ -268,7 +320,7 @@ def examples_show(name: str) -> None:
     """Print the TOML of a built-in example, to start a design from it."""
 
     def body() -> int:
-        from camtol.config import example_text
+        from camtol.examples import example_text
 
         click.echo(example_text(name), nl=False)
         return EXIT_OK
@@ -277,28 +329,59 @@ def examples_show(name: str) -> None:
 
 
 def _register_subcommands() -> None:
-    """Add the commands that live in their own modules."""
-    from camtol.cli_conjugate import conjugate
-    from camtol.cli_report import profile, report
-
-    cli.add_command(conjugate)
-    cli.add_command(profile)
-    cli.add_command(report)
-    from camtol.cli_verify import verify
-
-    cli.add_command(verify)
-    from camtol.cli_manufacturing import cut, derive, precision
-
-    cli.add_command(precision)
-    cli.add_command(cut)
-    cli.add_command(derive)
-    from camtol.cli_size import size
-
-    cli.add_command(size)
-    from camtol.cli_tolerancing import allocate, montecarlo
-
-    cli.add_command(montecarlo)
-    cli.add_command(allocate)
+    """Add the commands that live in their own modules; each is imported when it runs."""
+    LAZY_COMMANDS["conjugate"] = (
+        "camtol.cli_conjugate",
+        "conjugate",
+        "Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.",
+    )
+    LAZY_COMMANDS["profile"] = (
+        "camtol.cli_report",
+        "profile",
+        "Export the cam profile for CAD/CAM (CSV, DXF or SVG, chosen by the suffix of -o).",
+    )
+    LAZY_COMMANDS["report"] = (
+        "camtol.cli_report",
+        "report",
+        "Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.",
+    )
+    LAZY_COMMANDS["verify"] = (
+        "camtol.cli_verify",
+        "verify",
+        "Verify a design's analytic results with the exact contact engine (THEORY §5).",
+    )
+    LAZY_COMMANDS["size"] = (
+        "camtol.cli_size",
+        "size",
+        "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
+        " limits.",
+    )
+    LAZY_COMMANDS["precision"] = (
+        "camtol.cli_manufacturing",
+        "precision",
+        "How precise must the lift table be? (THEORY §6.1, §6.2)",
+    )
+    LAZY_COMMANDS["cut"] = (
+        "camtol.cli_manufacturing",
+        "cut",
+        "Simulate cutting at discrete cam angles and follow the cut cam exactly (THEORY §6.3).",
+    )
+    LAZY_COMMANDS["derive"] = (
+        "camtol.cli_manufacturing",
+        "derive",
+        "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
+    )
+    LAZY_COMMANDS["montecarlo"] = (
+        "camtol.cli_tolerancing",
+        "montecarlo",
+        "Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.",
+    )
+    LAZY_COMMANDS["allocate"] = (
+        "camtol.cli_tolerancing",
+        "allocate",
+        "Choose the coarsest (cheapest) IT grade per source that meets a spec.",
+    )
+    cli.lazy_commands.update(LAZY_COMMANDS)
 
 
 _register_subcommands()

@@ -266,6 +266,11 @@ def cut(
             fail("--tool cylinder needs --tool-radius MM (wire EDM: wire radius + spark gap)")
         if tool == "flat" and tool_radius_mm is not None:
             fail("--tool-radius is only allowed with --tool cylinder")
+        if tool_radius_mm is not None and not (0 < tool_radius_mm < math.inf):
+            fail(
+                f"--tool-radius={tool_radius_mm:g} is not allowed; give a positive radius in mm"
+                " (wire EDM: wire radius + spark gap)"
+            )
         if read_step_deg is not None:
             check_step(read_step_deg, name="--read-step", min_points=3)
             if read_step_deg > min(steps) * (1 + 1e-9):

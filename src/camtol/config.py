@@ -42,9 +42,7 @@ Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillat
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Mapping
-from importlib import resources
 from pathlib import Path
 from typing import Any, Literal
 
@@ -52,6 +50,10 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from camtol.design import CamDesign, ToleranceSpec
+from camtol.examples import example_names as example_names
+from camtol.examples import example_summary as example_summary
+from camtol.examples import example_text as example_text
+from camtol.examples import parse_toml as _parse_toml
 from camtol.exceptions import ConfigError, DesignError, InputFileError
 from camtol.mechanisms import FlatOscillating, FlatTranslating, Mechanism
 from camtol.motion import (
@@ -64,11 +66,6 @@ from camtol.motion import (
 )
 from camtol.sources import DESIGN_SOURCES
 from camtol.tables import read_table
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 __all__ = [
     "FOLLOWER_SCHEMAS",
@@ -426,13 +423,6 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
         raise ConfigError(str(exc)) from None
 
 
-def _parse_toml(text: str, source: str) -> dict[str, Any]:
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{source} is not valid TOML: {exc}") from None
-
-
 def load_design(path: str | Path) -> CamDesign:
     """Read a design file (TOML).
 
@@ -459,42 +449,6 @@ def load_design(path: str | Path) -> CamDesign:
     return design_from_mapping(_parse_toml(text, f"design file {str(p)!r}"), base_dir=p.parent)
 
 
-def _examples_dir() -> Any:
-    return resources.files("camtol") / "data" / "examples"
-
-
-def example_names() -> list[str]:
-    """Names of the built-in example designs."""
-    return sorted(
-        f.name.removesuffix(".toml") for f in _examples_dir().iterdir() if f.name.endswith(".toml")
-    )
-
-
-def example_text(name: str) -> str:
-    """TOML text of a built-in example.
-
-    Parameters
-    ----------
-    name : str
-        Example name, one of :func:`example_names`.
-
-    Returns
-    -------
-    str
-        The example's design file.
-
-    Raises
-    ------
-    ConfigError
-        If there is no such example.
-    """
-    if name not in example_names():
-        raise ConfigError(
-            f"example {name!r} does not exist; available: {', '.join(example_names())}"
-        )
-    return str((_examples_dir() / f"{name}.toml").read_text(encoding="utf-8"))
-
-
 def load_example(name: str) -> CamDesign:
     """Load a built-in example design by name (see :func:`example_names`).
 
@@ -514,11 +468,3 @@ def load_example(name: str) -> CamDesign:
         If there is no such example.
     """
     return design_from_mapping(_parse_toml(example_text(name), f"example {name!r}"))
-
-
-def example_summary(name: str) -> str:
-    """First line of an example's description."""
-    data = _parse_toml(example_text(name), name)
-    return (
-        str(data.get("description", "")).strip().splitlines()[0] if data.get("description") else ""
-    )

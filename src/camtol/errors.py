@@ -15,7 +15,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,12 +25,15 @@ from camtol.design import CamDesign, ResolvedTolerance
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.sources import DESIGN_SOURCES
 
-__all__ = ["ErrorAnalysis", "SourceError", "error_analysis"]
+__all__ = ["ErrorAnalysis", "SourceError", "error_analysis", "errors_from_sensitivities"]
 
 
 @dataclass(frozen=True)
 class SourceError:
     """Output error caused by one source at its tolerance.
+
+    Holds the sensitivity and its θ-derivatives; the errors ΔS_p = s_p·Δp and their
+    derivatives are computed when asked for (no stored copies: a fine grid stays small).
 
     Attributes
     ----------
@@ -38,27 +41,56 @@ class SourceError:
         Source key.
     deviation : float
         Δp. [mm, or rad for angles]
-    delta_lift : ndarray
-        ΔS_p. [mm, or rad for an oscillating follower]
-    delta_velocity : ndarray
-        dΔS_p/dθ, per radian of cam angle. [mm/rad or rad/rad]
-    delta_acceleration : ndarray
-        d²ΔS_p/dθ². [mm/rad² or rad/rad²]
     sensitivity : ndarray
-        ΔS_p / Δp. [output unit per mm or per rad]
+        s_p = ΔS_p / Δp. [output unit per mm or per rad]
+    sensitivity_d1, sensitivity_d2 : ndarray
+        ds_p/dθ and d²s_p/dθ² (read-only; may be broadcast views of a constant).
+        [output unit per mm or per rad, per rad^k]
     """
 
     key: str
     deviation: float
-    delta_lift: FloatArray
-    delta_velocity: FloatArray
-    delta_acceleration: FloatArray
     sensitivity: FloatArray
+    sensitivity_d1: FloatArray
+    sensitivity_d2: FloatArray
+
+    @property
+    def delta_lift(self) -> FloatArray:
+        """ΔS_p = s_p·Δp. [mm, or rad for an oscillating follower]"""
+        return self.delta(0)
+
+    @property
+    def delta_velocity(self) -> FloatArray:
+        """dΔS_p/dθ, per radian of cam angle. [mm/rad or rad/rad]"""
+        return self.delta(1)
+
+    @property
+    def delta_acceleration(self) -> FloatArray:
+        """d²ΔS_p/dθ². [mm/rad² or rad/rad²]"""
+        return self.delta(2)
+
+    def delta(self, order: int) -> FloatArray:
+        """ΔS_p (order 0) or its θ-derivative of that order (1 or 2).
+
+        Parameters
+        ----------
+        order : {0, 1, 2}
+            Derivative order.
+
+        Returns
+        -------
+        ndarray
+            A new array. [output unit per rad^order]
+        """
+        s = (self.sensitivity, self.sensitivity_d1, self.sensitivity_d2)[order]
+        return np.asarray(s * self.deviation, dtype=float)
 
 
 @dataclass(frozen=True)
 class ErrorAnalysis:
     """Per-source and combined output errors on a θ grid (internal units).
+
+    The combinations are computed when asked for (each access returns a new array).
 
     Attributes
     ----------
@@ -78,31 +110,89 @@ class ErrorAnalysis:
     theta_rad: FloatArray
     left_limit: NDArray[np.bool_]
     sources: dict[str, SourceError]
-    worst_lift: FloatArray
-    worst_velocity: FloatArray
-    worst_acceleration: FloatArray
-    rms_lift: FloatArray
-    rms_velocity: FloatArray
-    rms_acceleration: FloatArray
+
+    def worst(self, order: int) -> FloatArray:
+        """Worst case Σ_p |d^k ΔS_p/dθ^k| of derivative order k (0, 1, 2).
+
+        Parameters
+        ----------
+        order : {0, 1, 2}
+            Derivative order.
+
+        Returns
+        -------
+        ndarray
+            [output unit per rad^order]
+        """
+        out = np.zeros(self.theta_rad.shape)
+        part = np.empty_like(out)
+        for src in self.sources.values():
+            s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
+            np.abs(s, out=part)
+            part *= abs(src.deviation)
+            out += part
+        return out
+
+    def rms(self, order: int) -> FloatArray:
+        """RMS sqrt(Σ_p (d^k ΔS_p/dθ^k)²) of derivative order k (0, 1, 2).
+
+        Parameters
+        ----------
+        order : {0, 1, 2}
+            Derivative order.
+
+        Returns
+        -------
+        ndarray
+            [output unit per rad^order]
+        """
+        out = np.zeros(self.theta_rad.shape)
+        part = np.empty_like(out)
+        for src in self.sources.values():
+            s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
+            np.multiply(s, src.deviation, out=part)
+            part *= part
+            out += part
+        return np.sqrt(out, out=out)
+
+    @property
+    def worst_lift(self) -> FloatArray:
+        """Σ_p |ΔS_p|. [mm, or rad]"""
+        return self.worst(0)
+
+    @property
+    def worst_velocity(self) -> FloatArray:
+        """Σ_p |ΔV_p|. [mm/rad, or rad/rad]"""
+        return self.worst(1)
+
+    @property
+    def worst_acceleration(self) -> FloatArray:
+        """Σ_p |ΔA_p|. [mm/rad², or rad/rad²]"""
+        return self.worst(2)
+
+    @property
+    def rms_lift(self) -> FloatArray:
+        """sqrt(Σ_p ΔS_p²). [mm, or rad]"""
+        return self.rms(0)
+
+    @property
+    def rms_velocity(self) -> FloatArray:
+        """sqrt(Σ_p ΔV_p²). [mm/rad, or rad/rad]"""
+        return self.rms(1)
+
+    @property
+    def rms_acceleration(self) -> FloatArray:
+        """sqrt(Σ_p ΔA_p²). [mm/rad², or rad/rad²]"""
+        return self.rms(2)
 
 
 def _as_jet(x: JetLike, like: FloatArray) -> Jet:
+    """Return a sensitivity as a jet; a plain value is constant in θ (zero derivatives, no copy)."""
     if isinstance(x, Jet):
         return x
-    v = np.broadcast_to(np.asarray(x, dtype=float), like.shape).astype(float)
-    return Jet(v, np.zeros_like(v), np.zeros_like(v))
-
-
-def _combine(parts: Sequence[FloatArray], like: FloatArray) -> tuple[FloatArray, FloatArray]:
-    if not parts:
-        z = np.zeros_like(like)
-        return z, z.copy()
-    worst = np.abs(parts[0])
-    square = parts[0] * parts[0]
-    for p in parts[1:]:
-        worst += np.abs(p)
-        square += p * p
-    return worst, np.sqrt(square, out=square)
+    v = np.broadcast_to(np.asarray(x, dtype=float), like.shape)
+    zero = np.broadcast_to(0.0, like.shape)
+    return Jet(v, zero, zero)
 
 
 def error_analysis(
@@ -137,17 +227,46 @@ def error_analysis(
     theta_j = Jet.variable(theta)
     lift_j = Jet(motion.lift, motion.velocity, motion.acceleration)
     velocity_j = Jet(motion.velocity, motion.acceleration, motion.jerk)
-    sens = design.mechanism.error_sensitivities(theta_j, lift_j, velocity_j)
-    sources: dict[str, SourceError] = {}
+    sens = dict(design.mechanism.error_sensitivities(theta_j, lift_j, velocity_j))
     for tol in tolerances:
         if tol.key not in sens:  # a design-level source (camtol.sources)
             sens[tol.key] = DESIGN_SOURCES[tol.key].sensitivity(
                 design.mechanism, theta_j, lift_j, velocity_j
             )
-        s = _as_jet(sens[tol.key], theta)
-        d = tol.deviation
-        sources[tol.key] = SourceError(tol.key, d, s.v * d, s.d1 * d, s.d2 * d, s.v)
-    w_s, r_s = _combine([e.delta_lift for e in sources.values()], theta)
-    w_v, r_v = _combine([e.delta_velocity for e in sources.values()], theta)
-    w_a, r_a = _combine([e.delta_acceleration for e in sources.values()], theta)
-    return ErrorAnalysis(theta, left, sources, w_s, w_v, w_a, r_s, r_v, r_a)
+    return errors_from_sensitivities(theta, left, sens, tolerances)
+
+
+def errors_from_sensitivities(
+    theta_rad: FloatArray,
+    left_limit: NDArray[np.bool_],
+    sensitivities: Mapping[str, JetLike],
+    tolerances: Sequence[ResolvedTolerance],
+) -> ErrorAnalysis:
+    """Per-source and combined errors from sensitivities already evaluated as jets.
+
+    Lets a caller that evaluated the mechanism once (:func:`camtol.analysis.analyse`)
+    combine its sensitivities without evaluating them again.
+
+    Parameters
+    ----------
+    theta_rad : ndarray
+        Cam angles. [rad]
+    left_limit : ndarray of bool
+        Rows taking left limits at segment boundaries.
+    sensitivities : mapping of str to JetLike
+        ΔS per unit deviation of each source with its θ-derivatives, as returned by
+        :meth:`~camtol.mechanisms.base.Mechanism.error_sensitivities` for jet inputs.
+        [output unit per mm or per rad]
+    tolerances : sequence of ResolvedTolerance
+        Deviations Δp in internal units.
+
+    Returns
+    -------
+    ErrorAnalysis
+        As :func:`error_analysis`.
+    """
+    sources: dict[str, SourceError] = {}
+    for tol in tolerances:
+        s = _as_jet(sensitivities[tol.key], theta_rad)
+        sources[tol.key] = SourceError(tol.key, tol.deviation, s.v, s.d1, s.d2)
+    return ErrorAnalysis(theta_rad, left_limit, sources)

@@ -14,7 +14,7 @@ jumps the papers describe are reproduced exactly instead of being smeared by a s
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Union
 
 import numpy as np
@@ -56,6 +56,10 @@ class Jet:
     v: FloatArray
     d1: FloatArray
     d2: FloatArray
+    #: sin and cos of ``v``, computed once by :func:`sin`/:func:`cos` and shared by both.
+    _sincos: tuple[FloatArray, FloatArray] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
 
     # Make ``ndarray * Jet`` defer to Jet.__rmul__ instead of building an object array.
     __array_ufunc__ = None
@@ -174,6 +178,15 @@ def value(x: JetLike) -> FloatArray:
     return x.v if isinstance(x, Jet) else np.asarray(x, dtype=float)
 
 
+def _sincos(x: Jet) -> tuple[FloatArray, FloatArray]:
+    """Return sin and cos of a jet's value, computed once per jet (formulas take both)."""
+    sc = x._sincos
+    if sc is None:
+        sc = (np.sin(x.v), np.cos(x.v))
+        object.__setattr__(x, "_sincos", sc)
+    return sc
+
+
 def sin(x: JetLike) -> JetLike:
     """Sine, for arrays or jets.
 
@@ -188,7 +201,7 @@ def sin(x: JetLike) -> JetLike:
         sin x, a jet when ``x`` is one. [dimensionless]
     """
     if isinstance(x, Jet):
-        s, c = np.sin(x.v), np.cos(x.v)
+        s, c = _sincos(x)
         return x._chain(s, c, -s)
     return np.sin(x)
 
@@ -207,7 +220,7 @@ def cos(x: JetLike) -> JetLike:
         cos x, a jet when ``x`` is one. [dimensionless]
     """
     if isinstance(x, Jet):
-        s, c = np.sin(x.v), np.cos(x.v)
+        s, c = _sincos(x)
         return x._chain(c, -s, -c)
     return np.cos(x)
 

@@ -21,7 +21,14 @@ from camtol.jet import FloatArray, Jet, JetLike
 from camtol.mechanisms.base import ContactGeometry
 from camtol.motion import MotionState
 
-__all__ = ["Kinematics", "analysis_grid", "kinematics", "contact_jets", "to_jet"]
+__all__ = [
+    "Kinematics",
+    "analysis_grid",
+    "check_velocity_ratio",
+    "contact_jets",
+    "kinematics",
+    "to_jet",
+]
 
 
 @dataclass(frozen=True)
@@ -99,11 +106,10 @@ def analysis_grid(
     idx = np.clip(idx, 0, theta.size - 1)
     near = np.abs(theta[idx] - b) < 1e-9
     theta[idx[near]] = b[near]
-    full = np.concatenate([theta, b])
-    left = np.concatenate([np.zeros(theta.size, bool), np.ones(b.size, bool)])
-    # Left limits sort just before the right-limit row at the same angle.
-    order = np.lexsort((~left, full))
-    return full[order], left[order]
+    # Left limits go just before the right-limit row at the same angle (b is sorted, so
+    # inserting at the left insertion points keeps the grid non-decreasing).
+    at = np.searchsorted(theta, b, side="left")
+    return np.insert(theta, at, b), np.insert(np.zeros(theta.size, bool), at, True)
 
 
 def to_jet(x: FloatArray, d1: FloatArray, d2: FloatArray) -> Jet:
@@ -184,15 +190,10 @@ def kinematics(
     """
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
-    mech = design.mechanism
     motion = design.program.evaluate(theta, left_limit=left)
-    if check and mech.output == "oscillating" and np.any(motion.velocity >= 1.0):
-        i = int(np.argmax(motion.velocity))
-        raise GeometryError(
-            f"the follower's angular velocity ratio V reaches {motion.velocity[i]:.4g} at"
-            f" θ={math.degrees(theta[i]):.2f}°; an oscillating follower needs V < 1 everywhere"
-            " (slow the motion: longer segments or a smaller swing)"
-        )
+    if check:
+        check_velocity_ratio(design, theta, motion)
+    mech = design.mechanism
     g = mech.contact(theta, motion.lift, motion.velocity)
     rho = mech.curvature_radius(theta, motion.lift, motion.velocity, motion.acceleration)
     ax, ay = _val(g.contact_x), _val(g.contact_y)
@@ -220,6 +221,32 @@ def kinematics(
     if check:
         check_geometry(design, kin)
     return kin
+
+
+def check_velocity_ratio(design: CamDesign, theta_rad: FloatArray, motion: MotionState) -> None:
+    """Raise unless an oscillating follower's V = dξ/dθ stays below 1 (THEORY §0).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    theta_rad : ndarray
+        Cam angles. [rad]
+    motion : MotionState
+        The design's motion at ``theta_rad``. [mm or rad, per rad^k]
+
+    Raises
+    ------
+    GeometryError
+        V ≥ 1 somewhere for an oscillating follower.
+    """
+    if design.mechanism.output == "oscillating" and np.any(motion.velocity >= 1.0):
+        i = int(np.argmax(motion.velocity))
+        raise GeometryError(
+            f"the follower's angular velocity ratio V reaches {motion.velocity[i]:.4g} at"
+            f" θ={math.degrees(theta_rad[i]):.2f}°; an oscillating follower needs V < 1"
+            " everywhere (slow the motion: longer segments or a smaller swing)"
+        )
 
 
 def check_geometry(design: CamDesign, kin: Kinematics) -> None:

@@ -56,7 +56,9 @@ def spline_acceleration_response(n_points: int) -> np.ndarray:
 @cache
 def _response(n: int) -> tuple[float, ...]:
     if n < 3:
-        raise ValueError(f"n_points={n} is not allowed; a periodic table needs at least 3 points")
+        from camtol.exceptions import DesignError
+
+        raise DesignError(f"n_points={n} is not allowed; a periodic table needs at least 3 points")
     # The periodic spline's knot second derivatives solve T M = 6 D y / Δθ²: circulant
     # systems, diagonal in Fourier space. Column j of G is row 0 reversed (circulant).
     w = 2.0 * np.pi * np.fft.fftfreq(n)

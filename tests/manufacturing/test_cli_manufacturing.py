@@ -118,6 +118,7 @@ def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
         (["cut", "-e", "popa-eccentric", "--cut-step", "7"], "--cut-step=7"),
         (["cut", "-e", "popa-eccentric", "--cut-step", "1", "--read-step", "2"], "coarser"),
         (["cut", "-e", "popa-eccentric", "--tool", "cylinder"], "--tool-radius"),
+        (["cut", "-e", "popa-eccentric", "--tool", "cylinder", "--tool-radius", "-1"], "-1"),
         (["precision", "-e", "popa-eccentric", "--table-step", "7"], "--table-step=7"),
         (["precision", "-e", "popa-eccentric", "--decimals", "3,x"], "--decimals"),
         (["profile", "-e", "popa-eccentric", "-o", "OUT.nc"], "--cutter-radius"),
@@ -179,3 +180,21 @@ def test_derive_refuses_gaps_and_unequal_steps(
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
     assert not out.exists()
+
+
+def test_derive_oscillating_lift_in_degrees(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    src = tmp_path / "angle.csv"
+    th = np.arange(0.0, 360.0, 0.5)
+    ang = 10 * (1 - np.cos(np.radians(th)))  # deg
+    src.write_text(
+        "theta_deg,lift_deg\r\n"
+        + "\r\n".join(f"{a:g},{b:.5f}" for a, b in zip(th, ang, strict=True))
+    )
+    assert main(["derive", str(src), "--noise-deg", "0.00001", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["lift_unit"] == "deg" and "A_deg_per_rad2" in doc["noise_gain_per_mdeg"]
+    assert doc["max_abs_A"] == pytest.approx(10.0, rel=1e-3)
+    assert main(["derive", str(src), "--noise-um", "1"]) == 2
+    assert "--noise-um is for lift_mm files" in capsys.readouterr().err

@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from manufacturing_designs import concave_roller_design
 
 from camtol.config import load_example
@@ -104,3 +106,19 @@ def test_gouging_tool_and_bad_options_are_refused() -> None:
         write_gcode(d)
     with pytest.raises(DesignError, match="tolerance_mm"):
         write_gcode(d, tool_radius_mm=1.0, tolerance_mm=0.0)
+
+
+@settings(max_examples=12)
+@given(
+    radius=st.floats(0.0, 12.0),
+    tol_um=st.sampled_from([0.5, 1.0, 5.0, 20.0]),
+    mode=st.sampled_from(["arcs", "lines"]),
+    name=st.sampled_from(["cw06-translating", "roller-oscillating", "popa-eccentric"]),
+)
+def test_any_tool_and_tolerance_reads_back_within_tolerance(
+    radius: float, tol_um: float, mode: str, name: str
+) -> None:
+    d = load_example(name)
+    prog = write_gcode(d, tool_radius_mm=radius, tolerance_mm=tol_um * 1e-3, mode=mode)  # type: ignore[arg-type]
+    path = read_gcode(prog.text)[0]
+    assert path_deviation(path, d, radius, per_block=12) <= tol_um * 1e-3

@@ -1,0 +1,55 @@
+"""Shared helpers of the benchmarks: timing, and figures printed with target and verdict."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+__all__ = ["Figure", "best_of", "print_figures"]
+
+
+def best_of(fn: Callable[[], object], repeat: int) -> float:
+    """Best wall time of ``repeat`` calls. [s]"""
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A measured figure with its target (at most ``target``, or at least if ``at_least``)."""
+
+    name: str
+    value: float
+    unit: str
+    target: float
+    at_least: bool = False
+    note: str = ""
+
+    @property
+    def ok(self) -> bool:
+        """Whether the figure meets its target."""
+        return self.value >= self.target if self.at_least else self.value <= self.target
+
+    def line(self) -> str:
+        """One printed row: figure, target, value/target and PASS or MISS."""
+        sign = ">=" if self.at_least else "<="
+        ratio = self.value / self.target if self.target else math.inf
+        verdict = "PASS" if self.ok else "MISS"
+        note = f"  ({self.note})" if self.note else ""
+        return (
+            f"  {self.name:<52s} {self.value:10.4g} {self.unit:<4s} target {sign} {self.target:<8g}"
+            f" x{ratio:5.2f}  {verdict}{note}"
+        )
+
+
+def print_figures(title: str, figures: list[Figure]) -> None:
+    """Print a block of figures under a title."""
+    print(title)
+    for f in figures:
+        print(f.line())
