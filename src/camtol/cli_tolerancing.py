@@ -264,7 +264,7 @@ def montecarlo(
     show_default=True,
     help="Samples per candidate (monte_carlo) .",
 )
-@click.option("--verify-samples", type=int, default=100000, show_default=True)
+@click.option("--verify-samples", type=int, default=20000, show_default=True)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def allocate(

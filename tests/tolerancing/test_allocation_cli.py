@@ -188,3 +188,21 @@ def test_report_montecarlo_section(tmp_path: Path, capsys):
     bad = tmp_path / "bad.html"
     assert main(["report", "-e", "cw06-translating", "-o", str(bad), "--montecarlo", "0"]) == 2
     assert "--montecarlo=0" in capsys.readouterr().err and not bad.exists()
+
+
+def test_pareto_and_hull_reductions_are_exact(rng):
+    from camtol.tolerancing.allocation import _hull_angles, _pareto_rows
+
+    st = prepare(load_example("roller-oscillating"), step_deg=1.0)
+    g = st.sens["lift"]
+    t = rng.uniform(0.1, 1.0, size=(200, g.shape[1]))
+    p = np.abs(g)
+    np.testing.assert_allclose(
+        (_pareto_rows(p) @ t.T).max(axis=0), (p @ t.T).max(axis=0), rtol=1e-15
+    )
+    g3 = prepare(CW06, step_deg=1.0).sens["lift"]
+    x = rng.standard_normal((200, 3))
+    np.testing.assert_allclose(
+        np.abs(x @ _hull_angles(g3).T).max(axis=1), np.abs(x @ g3.T).max(axis=1), rtol=1e-13
+    )
+    assert _hull_angles(g3).shape[0] < g3.shape[0]

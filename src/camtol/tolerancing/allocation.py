@@ -91,18 +91,42 @@ def _with_grades(design: CamDesign, keys: list[str], grades: tuple[str, ...]) ->
 
 
 def _hull_angles(g: FloatArray) -> FloatArray:
-    """Rows of g that are vertices of the convex hull of {±g}, or all rows."""
-    if g.shape[1] < 2 or g.shape[1] > 6:
+    """Rows of g at the vertices of the convex hull of {±g} (all rows if qhull cannot).
+
+    max over rows of |row · t| is reached at such a vertex, for every t.
+    """
+    # Coordinates in the span of the rows (two sources may have equal sensitivities,
+    # e.g. Δn and Δr_f of a roller, which would make the hull flat).
+    _, sv, vt = np.linalg.svd(g, full_matrices=False)
+    rank = int(np.count_nonzero(sv > 1e-10 * sv[0])) if sv.size and sv[0] > 0 else 0
+    if not 2 <= rank <= 3:  # qhull gets slow beyond 3-D on these dense curves
         return g
     try:
         from scipy.spatial import ConvexHull, QhullError
 
-        pts = np.vstack([g, -g])
-        hull = ConvexHull(pts)
+        p = g @ vt[:rank].T
+        hull = ConvexHull(np.vstack([p, -p]))
         idx = np.unique(np.asarray(hull.vertices) % g.shape[0])
         return np.asarray(g[idx], dtype=float)
     except (QhullError, ValueError):
         return g
+
+
+def _pareto_rows(p: FloatArray) -> FloatArray:
+    """Return the non-dominated rows of a non-negative matrix (the Pareto front).
+
+    For t ≥ 0, max over rows of row · t is reached at a row that no other row dominates
+    (≥ in every column), so only those rows are needed (exact). Each step takes the
+    remaining row of largest sum (never dominated) and drops the rows it dominates.
+    """
+    rest = p
+    keep = []
+    while rest.shape[0]:
+        i = int(np.argmax(rest.sum(axis=1)))
+        top = rest[i]
+        keep.append(top)
+        rest = rest[~np.all(rest <= top, axis=1)]
+    return np.asarray(keep)
 
 
 def allocate(
@@ -115,7 +139,7 @@ def allocate(
     cost_exponent: float = 1.0,
     cost_coefficients: dict[str, float] | None = None,
     samples: int = 20000,
-    verify_samples: int = 100000,
+    verify_samples: int = 20000,
     seed: int = 0,
     model: StatisticalModel | None = None,
     step_deg: float = 0.1,
@@ -244,17 +268,18 @@ def _allocate(
     )
     scale = base.scale
 
+    # max_θ of Σ|g_k| t_k (+ a fixed process part) is a maximum of linear functions of
+    # (t, 1) with non-negative coefficients: only the non-dominated rows (|g|, fixed) can
+    # reach it, and likewise (g², fixed) for Σ g_k² t_k² (exact).
+    wc_rows = _pareto_rows(np.hstack([np.abs(g), fixed_wc[:, None]]))
+    rss_rows = _pareto_rows(np.hstack([g * g, fixed_rss[:, None]]))
+
     def figure(t: FloatArray) -> FloatArray:
         """max_θ worst case or RSS for rows of tolerances t (internal units)."""
-        out = np.empty(t.shape[0])
-        for s0 in range(0, t.shape[0], 2048):
-            tt = t[s0 : s0 + 2048]
-            if criterion == "rss":
-                v = np.sqrt((g * g) @ (tt * tt).T + fixed_rss[:, None])
-            else:
-                v = np.abs(g) @ tt.T + fixed_wc[:, None]
-            out[s0 : s0 + 2048] = v.max(axis=0)
-        return out
+        ones = np.ones((t.shape[0], 1))
+        if criterion == "rss":
+            return np.asarray(np.sqrt((rss_rows @ np.hstack([t * t, ones]).T).max(axis=0)))
+        return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
 
     finest = dev[:, 0][None, :]
     evaluated = 0
@@ -263,8 +288,8 @@ def _allocate(
         u_plan = base.plan
         x_unit = sample_matrix(u_plan, seed, samples)  # samples at the finest grades
         verts = _hull_angles(np.hstack([g, g_all[:, nk:]]))
-        lo_wc = np.abs(g) @ t_comb.T + fixed_wc[:, None]
-        wc_ok = lo_wc.max(axis=0) <= spec
+        ones = np.ones((t_comb.shape[0], 1))
+        wc_ok = (wc_rows @ np.hstack([t_comb, ones]).T).max(axis=0) <= spec
         bounded = bool(np.all(base.plan.column_bounds()[2]))
 
         allowed = int(math.floor((1.0 - target_yield) * samples))
