@@ -200,3 +200,25 @@ def test_velocity_and_acceleration_statistics():
         mask = want > 1e-6 * want.max()
         np.testing.assert_allclose(got[mask], want[mask], rtol=0.04)
     assert "max_abs_dV" in res.to_dict() and "max_abs_dA" in res.to_dict()
+
+
+def test_linear_only_options_refused_in_exact_mode():
+    with pytest.raises(DesignError, match="linear mode only"):
+        monte_carlo(CW06, 2, mode="exact", scheduler="tcp://127.0.0.1:1", step_deg=1.0)
+    with pytest.raises(DesignError, match="linear mode only"):
+        monte_carlo(CW06, 2, mode="exact", quantities=("velocity",), step_deg=1.0)
+
+
+def test_band_yield():
+    st = prepare(CW06, step_deg=1.0)
+    n = st.theta_rad.size
+    wide = (np.full(n, -1.0), np.full(n, 1.0))
+    res = monte_carlo(CW06, 1000, seed=2, band=wide, step_deg=1.0)
+    assert res.yield_estimate is not None and res.yield_estimate.value == 1.0
+    tight = (np.full(n, -0.005), np.full(n, 0.005))
+    res = monte_carlo(CW06, 1000, seed=2, band=tight, step_deg=1.0)
+    x = sample_matrix(st.plan, 2, 1000)
+    d = x @ st.sens["lift"].T
+    want = np.count_nonzero(np.all(np.abs(d) <= 0.005, axis=1)) / 1000
+    assert res.yield_estimate is not None
+    assert res.yield_estimate.value == pytest.approx(want, abs=2e-3)  # float32 ΔS at edges

@@ -282,6 +282,12 @@ def monte_carlo(
     if mode == "exact":
         from camtol.tolerancing.exact import run_exact
 
+        for name, value in (("band", band), ("scheduler", scheduler)):
+            if value is not None:
+                raise DesignError(f"{name} is supported in linear mode only (mode='exact')")
+        if len(qs) > 1:
+            raise DesignError("ΔV and ΔA statistics are supported in linear mode only")
+
         return run_exact(study, int(samples), int(seed), spec, progress)
     if band is not None:
         lo_b, hi_b = (np.asarray(b, dtype=float) for b in band)
