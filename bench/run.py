@@ -24,6 +24,7 @@ BENCHMARKS = [
     "bench_cli",
     "bench_contact",
     "bench_manufacturing",
+    "bench_record",
     "bench_montecarlo",
 ]
 

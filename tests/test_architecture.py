@@ -29,6 +29,7 @@ CORE = [
     "iso286.py",
     "analysis.py",
     "sizing.py",
+    "summary.py",
     "tables.py",
     "grid.py",
     "contact",

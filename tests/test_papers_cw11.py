@@ -19,12 +19,7 @@ import pytest
 
 from camtol.cli import main
 from camtol.config import load_example
-from camtol.inspection.fixture import (
-    conjugate_factors,
-    conjugate_variation,
-    fixture_spec_from_mapping,
-    inspect_conjugate,
-)
+from camtol.inspection import conjugate_factors, conjugate_variation, inspect_conjugate
 from camtol.kinematics import analysis_grid
 from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
 
@@ -69,7 +64,7 @@ def test_base_circle_dwell_by_hand(design) -> None:  # type: ignore[no-untyped-d
     # radial dimension: THEORY §8.3's 93.859 mm, by hand.
     assert rd - 16.0 == pytest.approx(93.859, abs=1e-3)
     d = la * math.cos(phi_a) * math.cos(alpha_b) + lb * math.cos(phi_b) * math.cos(alpha_a)
-    spec = fixture_spec_from_mapping(design.extras["inspection"])
+    spec = design.inspection
     v = conjugate_variation(fac, 0.0, 0.0, spec.errors)
     want_rf = (11 * lb * math.cos(phi_b) + 11 * la * math.cos(phi_a)) / d
     want_l = (
@@ -82,7 +77,7 @@ def test_base_circle_dwell_by_hand(design) -> None:  # type: ignore[no-untyped-d
 
 
 def test_simulated_example_inverse_and_verdicts(design) -> None:  # type: ignore[no-untyped-def]
-    spec = fixture_spec_from_mapping(design.extras["inspection"])
+    spec = design.inspection
     res = inspect_conjugate(design, spec, step_deg=0.1)
     est = res.estimate
     assert est is not None
@@ -203,7 +198,7 @@ def test_cli_experiment_with_a_csv_record(
     # off by 100 sin θ µm and a perfect master B: the estimate recovers cam A's error, and
     # both cams pass their ±220 µm bands.
     d = load_example("cw11-experiment")
-    spec = fixture_spec_from_mapping(d.extras["inspection"])
+    spec = d.inspection
     th = np.radians(np.arange(0.0, 360.0, 0.1))
     fac = conjugate_factors(th, d)
     dra = 100 * np.sin(th)

@@ -14,7 +14,8 @@ from camtol.config import load_example
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.kinematics import analysis_grid
-from camtol.sizing import _cam_kinematics, _extremes, minimum_base_radius
+from camtol.sizing import _cam_kinematics, _problems, minimum_base_radius
+from camtol.summary import cam_geometry
 
 
 def test_flat_translating_matches_closed_form() -> None:
@@ -39,7 +40,7 @@ def test_bracket_answer_works_and_one_tolerance_less_does_not(name: str) -> None
     limit = 32.0
     r = minimum_base_radius(d, pressure_angle_limit_deg=limit, tolerance_mm=1e-3)
     for c in r.cams:
-        assert c.max_pressure_angle_deg <= limit
+        assert c.max_abs_pressure_angle_deg <= limit
         assert c.min_convex_radius_mm > 0
     smaller = dataclasses.replace(
         d, mechanism=dataclasses.replace(d.mechanism, base_radius_mm=r.base_radius_mm - 1e-3)
@@ -50,8 +51,8 @@ def test_bracket_answer_works_and_one_tolerance_less_does_not(name: str) -> None
 def _fails(design: CamDesign, limit: float) -> bool:
     theta, left = analysis_grid(0.1, design.program.boundaries_rad)
     for label, mech, kin in _cam_kinematics(design, theta, left):
-        s, problems = _extremes(label, mech, kin)
-        if problems or s.max_pressure_angle_deg > limit:
+        s = cam_geometry(label, mech, kin)
+        if _problems(s, kin) or s.max_abs_pressure_angle_deg > limit:
             return True
     return False
 
@@ -60,7 +61,7 @@ def test_roller_pressure_angle_limit_is_met_exactly() -> None:
     d = load_example("roller-translating")
     r = minimum_base_radius(d, pressure_angle_limit_deg=30.0, tolerance_mm=1e-4)
     assert r.limiting == "pressure angle"
-    assert r.cams[0].max_pressure_angle_deg == pytest.approx(30.0, abs=0.01)
+    assert r.cams[0].max_abs_pressure_angle_deg == pytest.approx(30.0, abs=0.01)
 
 
 def test_offset_optimisation_never_worse() -> None:

@@ -46,6 +46,13 @@ __all__ = ["conjugate"]
     " Not with --df-mea.",
 )
 @click.option(
+    "--drop-bad-revolutions",
+    is_flag=True,
+    help="With --record: exclude revolutions with more than 1.5× or fewer than 0.67× the"
+    " median number of samples (a missed or spurious index mark) and report them, instead"
+    " of refusing the record.",
+)
+@click.option(
     "--master-a",
     metavar="VALUE|FILE.csv|FORMULA",
     help="Known radial error of master cam A (µm), as for --df-mea.",
@@ -62,7 +69,7 @@ __all__ = ["conjugate"]
     default=0.1,
     show_default=True,
     metavar="DEG",
-    help="Grid step [deg].",
+    help="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -81,6 +88,7 @@ def conjugate(
     example: str | None,
     df_mea: str | None,
     record_path: str | None,
+    drop_bad_revolutions: bool,
     master_a: str | None,
     master_b: str | None,
     step_deg: float,
@@ -99,7 +107,9 @@ def conjugate(
     With --record the indicator record is processed (THEORY §4.4): its mean over complete
     revolutions is Δf_mea and the verdicts are taken on it; the inverse estimates at the
     statistical representatives Δf_mea ± u_f (u_f: 3 standard deviations over
-    revolutions) are reported as upper and lower worst-case estimates.
+    revolutions) are reported as upper and lower worst-case estimates. A revolution far
+    longer or shorter than the median (a missed or spurious index mark) is an error, or
+    with --drop-bad-revolutions excluded and reported.
     """
 
     def body() -> int:
@@ -108,14 +118,16 @@ def conjugate(
                 f"--record={record_path!r} and --df-mea={df_mea!r} are mutually exclusive;"
                 " give the measured Δf one way"
             )
+        if drop_bad_revolutions and record_path is None:
+            fail("--drop-bad-revolutions applies to --record; give the record too")
+        from camtol.grid import check_step
+        from camtol.inspection.fixture import MAX_FIXTURE_POINTS
+
+        check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
-        from camtol.inspection.fixture import (
-            ErrorFunction,
-            fixture_spec_from_mapping,
-            inspect_conjugate,
-            parse_error_function,
-        )
+        from camtol.inspection.error_functions import ErrorFunction, parse_error_function
+        from camtol.inspection.fixture import inspect_conjugate
         from camtol.mechanisms.conjugate import ConjugatePair
         from camtol.report import conjugate as rep
 
@@ -125,15 +137,14 @@ def conjugate(
                 f"follower.type={d.mechanism.kind!r}: `camtol conjugate` needs a conjugate"
                 " design (follower.type = 'conjugate')"
             )
-        raw = d.extras.get("inspection")
-        if not raw:
+        spec = d.inspection
+        if spec is None:
             fail(
                 "the design has no [inspection] table; give at least"
                 " inspection.tolerance_a_um = [lower, upper] (see"
                 " `camtol examples show cw11-conjugate`)"
             )
-        base = Path(design).parent if design is not None else None
-        spec = fixture_spec_from_mapping(raw, base_dir=base)
+        assert spec is not None  # fail() does not return
 
         def option(value: str | None, name: str, default: ErrorFunction) -> ErrorFunction:
             return default if value is None else parse_error_function(value, field=name)
@@ -154,7 +165,9 @@ def conjugate(
                 to_error_function,
             )
 
-            processed = process_record(read_indicator_csv(record_path))
+            processed = process_record(
+                read_indicator_csv(record_path), drop_bad_revolutions=drop_bad_revolutions
+            )
             spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
         res = inspect_conjugate(d, spec, step_deg=step_deg)
         if record_path is not None:

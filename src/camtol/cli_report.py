@@ -259,8 +259,7 @@ def report(
 
             mc = monte_carlo(a.design, mc_samples, step_deg=step_deg)
             sections.append(montecarlo_section(mc))
-        base_dir = Path(design).parent if design is not None else None
-        write_report(a, output, base_dir=base_dir, sections=sections)
+        write_report(a, output, sections=sections)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

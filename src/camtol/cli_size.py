@@ -35,8 +35,9 @@ def sizing_json(result: Any) -> dict[str, Any]:
         "cams": [
             {
                 "cam": c.label or "cam",
-                "max_pressure_angle_deg": round(c.max_pressure_angle_deg, 4),
-                "max_pressure_angle_at_deg": round(c.max_pressure_angle_at_deg, 3),
+                "max_abs_pressure_angle_deg": round(c.max_abs_pressure_angle_deg, 4),
+                "pressure_angle_min_deg": round(c.pressure_angle_deg.min, 4),
+                "pressure_angle_max_deg": round(c.pressure_angle_deg.max, 4),
                 "min_convex_radius_mm": _finite(round(c.min_convex_radius_mm, 4)),
                 "min_convex_radius_at_deg": _finite(c.min_convex_radius_at_deg),
                 "min_concave_radius_mm": _finite(round(c.min_concave_radius_mm, 4)),
@@ -166,8 +167,7 @@ def size(
         for c in r.cams:
             name = f"cam {c.label}" if c.label else "cam"
             click.echo(
-                f"{name:<18} max |φ| {c.max_pressure_angle_deg:.2f}° at"
-                f" {c.max_pressure_angle_at_deg:.1f}°; min convex ρ"
+                f"{name:<18} max |φ| {c.max_abs_pressure_angle_deg:.2f}°; min convex ρ"
                 f" {c.min_convex_radius_mm:.3f} mm"
                 + (
                     f"; min concave ρ {c.min_concave_radius_mm:.3f} mm"

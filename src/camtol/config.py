@@ -44,7 +44,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
@@ -66,6 +66,9 @@ from camtol.motion import (
 )
 from camtol.sources import DESIGN_SOURCES
 from camtol.tables import read_table
+
+if TYPE_CHECKING:
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = [
     "FOLLOWER_SCHEMAS",
@@ -147,7 +150,7 @@ class ConjugateSchema(_Strict):
     """``type = "conjugate"``: conjugate cams A and B, double-roller follower (THEORY §2.4).
 
     The fixture data of ``camtol conjugate`` go in the ``[inspection]`` table
-    (:func:`camtol.inspection.fixture.fixture_spec_from_mapping`).
+    (:mod:`camtol.inspection.spec`).
     """
 
     type: Literal["conjugate"]
@@ -230,7 +233,8 @@ class DesignSchema(_Strict):
     motion: MotionSchema
     tolerances: dict[str, Any] = {}
     operation: OperationSchema = OperationSchema()
-    # Sections used by other commands (e.g. the conjugate fixture) pass through.
+    # The conjugate fixture's inputs: typed by camtol.inspection.spec (field names checked
+    # there, so that messages name them as `inspection.<field>`).
     inspection: dict[str, Any] = {}
     # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
     statistics: dict[str, Any] = {}
@@ -412,15 +416,22 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             pressure_angle_limit_deg=top.operation.pressure_angle_limit_deg,
             description=top.description,
             reference=top.reference,
-            extras={
-                **({"inspection": top.inspection} if top.inspection else {}),
-                **({"statistics": top.statistics} if top.statistics else {}),
-            },
+            inspection=_inspection(top.inspection, base_dir),
+            extras={"statistics": top.statistics} if top.statistics else {},
         )
     except ConfigError:
         raise
     except DesignError as exc:
         raise ConfigError(str(exc)) from None
+
+
+def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | None:
+    """Return the ``[inspection]`` table as a typed, frozen spec (None when absent)."""
+    if not raw:
+        return None
+    from camtol.inspection.spec import fixture_spec_from_mapping
+
+    return fixture_spec_from_mapping(raw, base_dir=base_dir)
 
 
 def load_design(path: str | Path) -> CamDesign:

@@ -11,12 +11,16 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from camtol import iso286
 from camtol.exceptions import DesignError
 from camtol.mechanisms.base import ErrorSource, Mechanism
 from camtol.motion import MotionProgram
 from camtol.sources import DESIGN_SOURCES
+
+if TYPE_CHECKING:
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = ["Cam", "CamDesign", "ResolvedTolerance", "ToleranceSpec", "IT_CONVENTIONS"]
 
@@ -107,6 +111,9 @@ class CamDesign:
         Design limit on |pressure angle|: exceeding it is warned about. [deg]
     description, reference : str
         Free text shown in reports.
+    inspection : FixtureSpec, optional
+        The conjugate fixture's inputs from the design file's ``[inspection]`` table
+        (THEORY §4), validated and typed (:mod:`camtol.inspection.spec`).
     """
 
     name: str
@@ -117,6 +124,7 @@ class CamDesign:
     pressure_angle_limit_deg: float | None = None
     description: str = ""
     reference: str = ""
+    inspection: FixtureSpec | None = None
     extras: dict[str, object] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:

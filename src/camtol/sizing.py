@@ -41,40 +41,13 @@ from camtol.exceptions import DesignError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
+from camtol.mechanisms.base import Mechanism
+from camtol.summary import CamGeometry, cam_geometry
 
-__all__ = ["CamSizing", "SizingResult", "minimum_base_radius"]
+__all__ = ["SizingResult", "minimum_base_radius"]
 
 #: Largest base radius tried before giving up. [mm]
 MAX_BASE_RADIUS_MM = 1e5
-
-
-@dataclass(frozen=True)
-class CamSizing:
-    """Geometry of one cam at the chosen size.
-
-    Attributes
-    ----------
-    label : str
-        ``""`` for a single cam, ``"A"``/``"B"`` for a conjugate pair.
-    max_pressure_angle_deg : float
-        Largest |φ|. [deg]
-    max_pressure_angle_at_deg : float
-        Cam angle where it occurs. [deg]
-    min_convex_radius_mm, min_convex_radius_at_deg : float
-        Smallest convex radius of curvature of the profile (inf if none) and its angle.
-        [mm, deg]
-    min_concave_radius_mm, min_concave_radius_at_deg : float
-        Smallest concave radius of curvature, as a positive number (inf if the profile
-        has no concave stretch), and its angle. [mm, deg]
-    """
-
-    label: str
-    max_pressure_angle_deg: float
-    max_pressure_angle_at_deg: float
-    min_convex_radius_mm: float
-    min_convex_radius_at_deg: float
-    min_concave_radius_mm: float
-    min_concave_radius_at_deg: float
 
 
 @dataclass(frozen=True)
@@ -92,7 +65,7 @@ class SizingResult:
     limiting : str
         Requirement that sets the size at ``base_radius_mm − tolerance_mm``, e.g.
         ``"pressure angle"``.
-    cams : tuple of CamSizing
+    cams : tuple of CamGeometry
         Geometry of each cam at the chosen size.
     pressure_angle_limit_deg, min_radius_mm, cutter_radius_mm : float or None
         The requirements. [deg, mm, mm]
@@ -104,7 +77,7 @@ class SizingResult:
     offset_mm: float | None
     given_base_radius_mm: float
     limiting: str
-    cams: tuple[CamSizing, ...]
+    cams: tuple[CamGeometry, ...]
     pressure_angle_limit_deg: float | None
     min_radius_mm: float | None
     cutter_radius_mm: float | None
@@ -113,7 +86,7 @@ class SizingResult:
 
 def _cam_kinematics(
     design: CamDesign, theta: FloatArray, left: NDArray[np.bool_]
-) -> list[tuple[str, object, Kinematics]]:
+) -> list[tuple[str, Mechanism, Kinematics]]:
     """(label, mechanism, kinematics) of every cam of the design, unchecked."""
     cams = getattr(design, "cams", None)
     if cams is not None:
@@ -124,7 +97,7 @@ def _cam_kinematics(
     if design.mechanism.kind == "conjugate":
         from camtol.mechanisms.conjugate import cam_design
 
-        out: list[tuple[str, object, Kinematics]] = []
+        out: list[tuple[str, Mechanism, Kinematics]] = []
         for label in ("A", "B"):
             d = cam_design(design, label)
             out.append((label, d.mechanism, kinematics(d, theta, left_limit=left, check=False)))
@@ -132,32 +105,14 @@ def _cam_kinematics(
     return [("", design.mechanism, kinematics(design, theta, left_limit=left, check=False))]
 
 
-def _extremes(label: str, mech: object, kin: Kinematics) -> tuple[CamSizing, list[str]]:
-    """Geometry figures of one cam and the requirements it violates (names)."""
-    deg = np.degrees(kin.theta_rad)
-    problems: list[str] = []
-    finite = np.isfinite(kin.radius_mm) & np.isfinite(kin.pressure_angle_rad)
-    if not np.all(finite):
+def _problems(geometry: CamGeometry, kin: Kinematics) -> list[str]:
+    """Names of the always-checked requirements one cam violates."""
+    problems = []
+    if not (np.all(np.isfinite(kin.radius_mm)) and np.all(np.isfinite(kin.pressure_angle_rad))):
         problems.append("undefined geometry")
-    pa = np.where(finite, np.abs(kin.pressure_angle_rad), np.inf)
-    j = int(np.argmax(pa))
-    rho = kin.curvature_radius_mm
-    convex = np.where(np.isfinite(rho) & (rho > 0), rho, np.inf)
-    concave = np.where(np.isfinite(rho) & (rho < 0), -rho, np.inf)
-    i, k = int(np.argmin(convex)), int(np.argmin(concave))
-    undercut = np.asarray(mech.undercut_mask(rho))  # type: ignore[attr-defined]
-    if np.any(undercut):
+    if geometry.undercut:
         problems.append("undercut")
-    sizing = CamSizing(
-        label,
-        float(math.degrees(pa[j])),
-        float(deg[j]),
-        float(convex[i]),
-        float(deg[i]) if np.isfinite(convex[i]) else math.nan,
-        float(concave[k]),
-        float(deg[k]) if np.isfinite(concave[k]) else math.nan,
-    )
-    return sizing, problems
+    return problems
 
 
 def minimum_base_radius(
@@ -246,13 +201,13 @@ def minimum_base_radius(
             return None
         return dataclasses.replace(design, mechanism=new, tolerances=())
 
-    def assess(d: CamDesign) -> tuple[list[CamSizing], list[str]]:
+    def assess(d: CamDesign) -> tuple[list[CamGeometry], list[str]]:
         sizes, problems = [], []
         for label, m, kin in _cam_kinematics(d, theta, left):
-            s, p = _extremes(label, m, kin)
+            s = cam_geometry(label, m, kin, pressure_angle_limit_deg=limit)
             sizes.append(s)
-            problems += p
-            if s.max_pressure_angle_deg > math.degrees(limit_rad) - 1e-12:
+            problems += _problems(s, kin)
+            if s.max_abs_pressure_angle_deg > math.degrees(limit_rad) - 1e-12:
                 problems.append("pressure angle")
             if min_radius_mm is not None and s.min_convex_radius_mm < min_radius_mm:
                 problems.append("convex radius of curvature")
@@ -281,7 +236,7 @@ def minimum_base_radius(
         res = minimize_scalar(worst, bounds=(-0.9 * rp, 0.9 * rp), method="bounded")
         return float(res.x)
 
-    def ok(rb: float) -> tuple[bool, list[str], list[CamSizing], float | None]:
+    def ok(rb: float) -> tuple[bool, list[str], list[CamGeometry], float | None]:
         e = best_offset(rb)
         d = build(rb, e)
         if d is None:
@@ -296,7 +251,7 @@ def minimum_base_radius(
 def _search(
     design: CamDesign,
     given: float,
-    ok: Callable[[float], tuple[bool, list[str], list[CamSizing], float | None]],
+    ok: Callable[[float], tuple[bool, list[str], list[CamGeometry], float | None]],
     tolerance_mm: float,
     limit: float | None,
     min_radius_mm: float | None,

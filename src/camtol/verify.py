@@ -40,7 +40,7 @@ from camtol.kinematics import analysis_grid, kinematics
 from camtol.sources import DESIGN_SOURCES
 
 if TYPE_CHECKING:
-    from camtol.inspection.fixture import FixtureErrors
+    from camtol.inspection.conjugate import FixtureErrors
 
 __all__ = [
     "LinearisationCheck",
@@ -415,11 +415,10 @@ def _fixture_inputs(
     design: CamDesign, max_radius: float
 ) -> tuple[dict[str, tuple[ProfileError | None, ProfileError | None, FixtureErrors]], str]:
     """Error cases to re-simulate: key → (Δr_A, Δr_B, constant errors), and their origin."""
-    from camtol.inspection.fixture import FixtureErrors, fixture_spec_from_mapping
+    from camtol.inspection.conjugate import FixtureErrors
 
-    raw = design.extras.get("inspection")
-    if isinstance(raw, dict) and raw:
-        spec = fixture_spec_from_mapping(raw)
+    spec = design.inspection
+    if spec is not None:
         ma, mb = spec.master_a, spec.master_b
         err_a: ProfileError = CallableError(lambda t: np.asarray(ma(t)) * 1e-3)
         err_b: ProfileError = CallableError(lambda t: np.asarray(mb(t)) * 1e-3)
@@ -476,7 +475,7 @@ def verify_conjugate(
 
     Round trip: the nominal cams A and B in the nominal fixture give ξ − ξ0 = S(θ) and
     Δf = 0. Linearisation: the forward analysis of THEORY §4.1 (Δf_r, Δf_rf, Δf_l, Δf_η;
-    :func:`camtol.inspection.fixture.conjugate_variation`) against the exact fixture with
+    :func:`camtol.inspection.conjugate.conjugate_variation`) against the exact fixture with
     the errors applied to the shapes and to the follower: each part alone (``r_a``,
     ``r_b``, ``rf``, ``l``, ``eta``) and all together (``all``, Δf_est), in µm of Δf.
     The errors are the design's ``[inspection]`` master-cam functions and constant errors
@@ -494,7 +493,7 @@ def verify_conjugate(
     """
     from camtol.analysis import max_radius_mm
     from camtol.contact.fixture import Fixture, simulate_fixture
-    from camtol.inspection.fixture import conjugate_factors, conjugate_variation
+    from camtol.inspection.conjugate import conjugate_factors, conjugate_variation
     from camtol.mechanisms.conjugate import ConjugatePair, cam_design, conjugate_kinematics
 
     pair = design.mechanism

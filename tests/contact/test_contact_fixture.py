@@ -13,12 +13,7 @@ from camtol.contact.fixture import Fixture, simulate_fixture
 from camtol.contact.roller import follow_roller_oscillating
 from camtol.contact.shapes import AnalyticShape
 from camtol.exceptions import GeometryError
-from camtol.inspection.fixture import (
-    FixtureErrors,
-    conjugate_factors,
-    conjugate_variation,
-    fixture_spec_from_mapping,
-)
+from camtol.inspection import FixtureErrors, conjugate_factors, conjugate_variation
 from camtol.kinematics import analysis_grid
 from camtol.mechanisms.conjugate import ConjugatePair
 
@@ -51,7 +46,8 @@ def test_master_cams_and_constant_errors_match_forward_analysis_to_second_order(
     # 14-18 (THEORY §4.1) to second order: the difference is < 1 % of Δf and falls by 4
     # when every error is halved.
     d, pair, a, b = cw11
-    spec = fixture_spec_from_mapping(d.extras["inspection"])
+    spec = d.inspection
+    assert spec is not None
     theta = np.radians(np.arange(0.0, 360.0, 0.5))
     fac = conjugate_factors(theta, d)
     diffs = []
@@ -80,7 +76,8 @@ def test_master_cams_and_constant_errors_match_forward_analysis_to_second_order(
 def test_formula_master_errors_via_callable(cw11: tuple) -> None:
     # The fixture spec's formula errors (values only) give the same Δf as the Fourier form.
     d, pair, a, b = cw11
-    spec = fixture_spec_from_mapping(d.extras["inspection"])
+    spec = d.inspection
+    assert spec is not None
     theta = np.radians(np.arange(0.0, 360.0, 5.0))
     ma = CallableError(lambda t: np.asarray(spec.master_a(t)) * 1e-3)
     fa = FourierError(18.5e-3, sin_mm=(3.5e-3,))

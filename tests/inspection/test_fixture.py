@@ -19,13 +19,13 @@ from camtol.inspection import (
     acceptance_bands,
     conjugate_factors,
     conjugate_variation,
-    failing_intervals,
     inspect_conjugate,
     inverse_estimate,
-    parse_error_function,
-    parse_length_um,
 )
-from camtol.inspection.fixture import fixture_spec_from_mapping
+from camtol.inspection.acceptance import failing_intervals
+from camtol.inspection.error_functions import parse_error_function
+from camtol.inspection.spec import fixture_spec_from_mapping
+from camtol.inspection.units import parse_length_um
 from camtol.mechanisms.conjugate import ConjugatePair
 from camtol.motion import Segment, SegmentProgram
 
@@ -97,7 +97,7 @@ def test_csv_table(tmp_path: Path) -> None:
     bad.write_text("theta_deg,um\n0,1\n10,x\n")
     with pytest.raises(InputFileError, match="line 3"):
         ErrorFunction.from_csv(bad)
-    with pytest.raises(InputFileError, match="cannot read"):
+    with pytest.raises(InputFileError, match="cannot be read"):  # the shared reader's words
         ErrorFunction.from_csv(tmp_path / "missing.csv")
 
 
@@ -262,10 +262,10 @@ def test_needs_conjugate_design_and_valid_step() -> None:
 def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
     """Extremes use the shared finder: located to step/1000, constants as 0-360°."""
     from camtol.config import load_example
-    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
 
     design = load_example("cw11-conjugate")
-    spec = fixture_spec_from_mapping(design.extras["inspection"])
+    spec = design.inspection
+    assert spec is not None
     coarse = inspect_conjugate(design, spec, step_deg=1.0)
     fine = inspect_conjugate(design, spec, step_deg=0.1)
     mx_c, _ = coarse.extremes["dr_A_est"]
@@ -277,7 +277,7 @@ def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
 
 
 def test_merge_intervals_joins_short_gaps_only() -> None:
-    from camtol.inspection.fixture import merge_intervals
+    from camtol.inspection.acceptance import merge_intervals
 
     slivers = [(80.5, 80.51), (80.62, 80.72), (81.0, 133.9), (134.2, 135.0), (221.95, 248.5)]
     assert merge_intervals(slivers, 1.0) == [(80.5, 135.0), (221.95, 248.5)]

@@ -37,10 +37,9 @@ from camtol.inspection import (
     read_indicator_csv,
     record_estimates,
     simulate_record,
-    to_error_function,
     write_indicator_csv,
 )
-from camtol.inspection.fixture import fixture_spec_from_mapping
+from camtol.inspection.record import to_error_function
 
 SIGMA = 0.5  # µm
 
@@ -100,8 +99,8 @@ def test_samples_outside_complete_revolutions_are_discarded(rng: np.random.Gener
     marks = rec.marks
     assert marks[0] == 777 and rec.df_um.size - marks[-1] == 334
     junk = rec.df_um.copy()
-    junk[: marks[0]] = 1e6  # anything outside the complete revolutions must not matter
-    junk[marks[-1] :] = -1e6
+    junk[: marks[0]] = 9e3  # anything (within ±10 mm) outside the complete revolutions
+    junk[marks[-1] :] = -9e3  # must not matter
     p = process_record(IndicatorRecord(junk, rec.index, rec.time_s, "junk"))
     ref = process_record(simulate_record(truth, noise_um=0.0))
     np.testing.assert_allclose(p.df_mea_um, ref.df_mea_um, atol=1e-12)
@@ -192,24 +191,24 @@ def test_read_comments_extra_columns_and_column_order(tmp_path: Path) -> None:
     [
         (
             "theta,um\n1,2\n",
-            r"needs the columns df_um, index .*missing df_um, index; found: theta, um",
+            r"needs the columns df_um, index.*missing df_um, index; found: theta, um",
         ),
         ("df_um,time_s\n1,0\n", r"missing index; found: df_um, time_s"),
-        ("", r"missing df_um, index; found: \(no header line\)"),
-        ("df_um,index\n1,1\n2,0\nabc,0\n3,1\n", r"line 4: column df_um='abc' is not a number"),
+        ("", r"the indicator record is empty"),
+        ("df_um,index\n1,1\n2,0\nabc,0\n3,1\n", r"line 4, column df_um: 'abc' is not a number"),
         (
             "df_um,index\n1,1\nnan,0\n2,0\n3,1\n",
-            r"line 3: column df_um='nan' is not allowed; give a finite",
+            r"line 3, column df_um: 'nan' is not allowed; every value must be a finite",
         ),
         ("df_um,index\n1,1\n2,0\n3,0\n", r"found 1 index mark\(s\) in 3 samples; need at least 2"),
         ("df_um,index\n1,0\n2,0\n", r"found 0 index mark\(s\)"),
-        ("df_um,index\n1,1\n2,2\n3,1\n", r"line 3: column index='2' is not allowed; give 1 where"),
+        ("df_um,index\n1,1\n2,2\n3,1\n", r"line 3: column index=2 is not allowed; give 1 where"),
         ("df_um,index,time_s\n1,1,0\n2,0\n3,1,1\n", r"line 3: expected 3 cells"),
         (
             "df_um,index\n1,1\n2,0\n3,1\n",
             r"revolution 1 \(samples 1-2\) has 2 sample\(s\); need at least 3",
         ),
-        ("df_um,index,time_s\n1,1,0\n2,0,inf\n3,0,2\n4,1,3\n", r"line 3: column time_s='inf'"),
+        ("df_um,index,time_s\n1,1,0\n2,0,inf\n3,0,2\n4,1,3\n", r"line 3, column time_s: 'inf'"),
     ],
 )
 def test_read_errors_name_the_file_and_the_problem(
@@ -224,7 +223,7 @@ def test_read_errors_name_the_file_and_the_problem(
 
 def test_missing_file(tmp_path: Path) -> None:
     path = tmp_path / "nope.csv"
-    with pytest.raises(InputFileError, match="cannot read the indicator record") as info:
+    with pytest.raises(InputFileError, match="cannot be read") as info:
         read_indicator_csv(path)
     assert str(path) in str(info.value)
 
@@ -232,7 +231,8 @@ def test_missing_file(tmp_path: Path) -> None:
 # --- estimates at Δf_mea ± u_f and the command line ---------------------------------------
 def test_record_estimates_bracket_the_mean(rng: np.random.Generator) -> None:
     d = load_example("cw11-conjugate")
-    spec = fixture_spec_from_mapping(d.extras["inspection"])
+    spec = d.inspection
+    assert spec is not None
     p = process_record(simulate_record(truth, noise_um=SIGMA, rng=rng))
     spec = spec.__class__(
         spec.errors,

@@ -37,7 +37,7 @@ def page_of(name: str) -> str:
 
 def expected_figures(name: str) -> int:
     design = load_example(name)
-    return 2 if design.mechanism.kind == "conjugate" and design.extras.get("inspection") else 1
+    return 2 if design.mechanism.kind == "conjugate" and design.inspection is not None else 1
 
 
 @pytest.mark.parametrize("name", EXAMPLES)

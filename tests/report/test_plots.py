@@ -17,12 +17,7 @@ from matplotlib.lines import Line2D
 
 from camtol.analysis import Analysis, analyse
 from camtol.config import example_names, load_example
-from camtol.inspection.fixture import (
-    FixtureInspection,
-    FixtureSpec,
-    fixture_spec_from_mapping,
-    inspect_conjugate,
-)
+from camtol.inspection import FixtureInspection, FixtureSpec, inspect_conjugate
 from camtol.kinematics import kinematics
 from camtol.report import plots
 
@@ -38,7 +33,8 @@ def analysis_of(name: str) -> Analysis:
 @cache
 def fixture_of(name: str) -> tuple[FixtureInspection, FixtureSpec]:
     design = load_example(name)
-    spec = fixture_spec_from_mapping(design.extras["inspection"])  # type: ignore[arg-type]
+    spec = design.inspection
+    assert spec is not None
     return inspect_conjugate(design, spec, step_deg=0.5), spec
 
 

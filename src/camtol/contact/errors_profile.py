@@ -152,7 +152,7 @@ class CallableError:
     """Δ(θ) from any vectorised function of θ, with derivatives by central differences.
 
     Use for error functions known only as values (formulas, tables of
-    :class:`camtol.inspection.fixture.ErrorFunction`). The derivatives enter the contact
+    :class:`camtol.inspection.error_functions.ErrorFunction`). The derivatives enter the contact
     condition (the profile's tangent), so their accuracy matters: with the default step
     the truncation error of dΔ/dθ is about step²/6 · Δ''' (1e-9 relative for smooth
     errors); across a kink of a piecewise-linear table it is as large as the kink.

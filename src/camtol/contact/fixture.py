@@ -51,7 +51,7 @@ from camtol.jet import FloatArray
 from camtol.motion import MotionState
 
 if TYPE_CHECKING:
-    from camtol.inspection.fixture import FixtureErrors
+    from camtol.inspection.conjugate import FixtureErrors
     from camtol.mechanisms.conjugate import ConjugatePair
 
 __all__ = ["Fixture", "simulate_fixture"]

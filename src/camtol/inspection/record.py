@@ -16,7 +16,8 @@ revolutions); an optical index mark fires on the sample that starts each revolut
 * evaluates the inverse analysis at the statistical representatives Δf_mea ± u_f, the
   upper and lower worst-case estimates of Δr_A,est and Δr_B,est
   (:func:`record_estimates`);
-* simulates a record of a known Δf(θ) for tests and trials (:func:`simulate_record`).
+* simulates a record of a known Δf(θ) for tests and trials
+  (:func:`~camtol.inspection.simulate.simulate_record`).
 
 The acceptance verdicts of :func:`~camtol.inspection.fixture.inspect_conjugate` are taken
 on the mean record Δf_mea: a necessary condition on the mean (THEORY §4.3); the band
@@ -31,10 +32,7 @@ References
 
 from __future__ import annotations
 
-import csv
-import io
 import math
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,14 +42,13 @@ from numpy.typing import ArrayLike, NDArray
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, InputFileError
 from camtol.extremes import Extreme, find_extremes
-from camtol.inspection.fixture import (
-    ErrorFunction,
-    FixtureSpec,
-    InverseEstimate,
-    conjugate_factors,
-    inverse_estimate,
-)
+from camtol.grid import check_step
+from camtol.inspection.conjugate import InverseEstimate, conjugate_factors, inverse_estimate
+from camtol.inspection.error_functions import ErrorFunction
+from camtol.inspection.spec import FixtureSpec
+from camtol.inspection.units import MAX_ERROR_UM
 from camtol.jet import FloatArray
+from camtol.tables import read_table
 
 __all__ = [
     "IndicatorRecord",
@@ -60,14 +57,17 @@ __all__ = [
     "process_record",
     "read_indicator_csv",
     "record_estimates",
-    "simulate_record",
     "to_error_function",
     "write_indicator_csv",
 ]
 
 _REQUIRED = ("df_um", "index")
 _OPTIONAL = ("time_s",)
-_MIN_SAMPLES = 3  # per revolution: fewer cannot describe a function of θ
+#: Fewest samples of a revolution: fewer cannot describe a function of θ.
+MIN_SAMPLES_PER_REVOLUTION = 3
+#: A revolution longer than this many times the reference length (the median) holds a
+#: missed index mark; one shorter than 1/this is cut by a spurious mark.
+REVOLUTION_RATIO = 1.5
 
 
 @dataclass(frozen=True)
@@ -107,6 +107,12 @@ class IndicatorRecord:
                 f"{self.source}: time_s must have one value per sample ({n[0]}),"
                 f" got {self.time_s.shape}"
             )
+        problem = _reading_problem(self.df_um) or (
+            _time_problem(self.time_s) if self.time_s is not None else None
+        )
+        if problem is not None:
+            i, text = problem
+            raise InputFileError(f"{self.source}: sample {i + 1}: {text}")
 
     @property
     def marks(self) -> NDArray[np.intp]:
@@ -114,29 +120,34 @@ class IndicatorRecord:
         return np.flatnonzero(self.index)
 
 
-def _column(
-    cells: list[list[str]], lines: list[int], col: int, name: str, path: Path
-) -> FloatArray:
-    """Convert one column to floats; on failure name the file line and the cell."""
-    try:
-        values = np.array([row[col] for row in cells], dtype=float)
-    except ValueError:
-        for row, lineno in zip(cells, lines, strict=True):
-            try:
-                float(row[col])
-            except ValueError:
-                raise InputFileError(
-                    f"{path}, line {lineno}: column {name}={row[col]!r} is not a number"
-                ) from None
-        raise  # pragma: no cover - the loop finds the bad cell
-    bad = ~np.isfinite(values)
+def _reading_problem(df_um: FloatArray) -> tuple[int, str] | None:
+    """First indicator reading that is not finite or beyond ±MAX_ERROR_UM, if any."""
+    bad = ~np.isfinite(df_um) | (np.abs(df_um) > MAX_ERROR_UM)
+    if not np.any(bad):
+        return None
+    i = int(np.argmax(bad))
+    return i, (
+        f"df_um={float(df_um[i]):g} is not allowed; an indicator reading must be a finite number"
+        f" within ±{MAX_ERROR_UM:g} µm (check the unit)"
+    )
+
+
+def _time_problem(time_s: FloatArray) -> tuple[int, str] | None:
+    """First sample time that is negative, not finite or not after the one before, if any."""
+    bad = ~np.isfinite(time_s) | (time_s < 0)
     if np.any(bad):
         i = int(np.argmax(bad))
-        raise InputFileError(
-            f"{path}, line {lines[i]}: column {name}={cells[i][col]!r} is not allowed;"
-            " give a finite number"
+        return i, f"time_s={float(time_s[i]):g} is not allowed; sample times are finite and ≥ 0 s"
+    step = np.diff(time_s)
+    back = step <= 0
+    if np.any(back):
+        i = int(np.argmax(back)) + 1
+        what = "repeats" if step[i - 1] == 0 else "goes back from"
+        return i, (
+            f"time_s={time_s[i]:g} {what} {time_s[i - 1]:g} s of the sample before; sample"
+            " times must increase strictly"
         )
-    return values
+    return None
 
 
 def read_indicator_csv(path: str | Path) -> IndicatorRecord:
@@ -145,10 +156,13 @@ def read_indicator_csv(path: str | Path) -> IndicatorRecord:
     Parameters
     ----------
     path : str or Path
-        CSV file with a header line naming the columns: ``df_um`` (indicator reading Δf
-        [µm]) and ``index`` (1 on the sample where the optical index mark fires, the start
-        of a revolution, else 0) are required, ``time_s`` (sample time [s]) is optional,
-        other columns are ignored. Lines starting with ``#`` and blank lines are skipped.
+        Table read by :func:`camtol.tables.read_table` (``#`` comments, ``,``/``;``/
+        blanks, BOM, CRLF, UTF-16 with BOM) with a header line naming the columns:
+        ``df_um`` (indicator reading Δf [µm], within ±10 mm) and ``index`` (1 on the
+        sample where the optical index mark fires, the start of a revolution, else 0) are
+        required, ``time_s`` (sample time [s], ≥ 0 and strictly increasing) is optional,
+        other columns are ignored. Read vectorised: 10 million rows take a few seconds and
+        about the memory of the numbers (up to 1 GiB of file).
 
     Returns
     -------
@@ -158,58 +172,34 @@ def read_indicator_csv(path: str | Path) -> IndicatorRecord:
     Raises
     ------
     InputFileError
-        If the file cannot be read, a required column is missing (the message lists the
-        columns found), a row is short, a cell is not a finite number (with its line), an
-        index cell is not 0 or 1, or there are fewer than two index marks (at least one
-        complete revolution is needed).
+        If the file cannot be read, a required column is missing or given twice (the
+        message lists the columns found), a row is short, a cell is not a finite number,
+        an index cell is not 0 or 1, a reading is beyond ±10 mm, a time is negative or
+        not after the one before (each naming the line), or there are fewer than two
+        index marks (at least one complete revolution is needed).
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputFileError(
-            f"{p}: cannot read the indicator record ({exc.strerror or exc})"
-        ) from None
-    except UnicodeDecodeError:
-        raise InputFileError(f"{p}: the indicator record is not UTF-8 text (CSV)") from None
-    header: list[str] | None = None
-    cells: list[list[str]] = []
-    lines: list[int] = []
-    for lineno, row in enumerate(csv.reader(io.StringIO(text)), start=1):
-        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
-            continue
-        if header is None:
-            header = [c.strip() for c in row]
-            continue
-        cells.append(row)
-        lines.append(lineno)
-    found = ", ".join(header) if header else "(no header line)"
-    missing = [c for c in _REQUIRED if header is None or c not in header]
-    if missing:
-        raise InputFileError(
-            f"{p}: the indicator record needs the columns {', '.join(_REQUIRED)}"
-            f" (optional {', '.join(_OPTIONAL)}); missing {', '.join(missing)}; found: {found}"
-        )
-    assert header is not None
-    width = max(header.index(c) for c in (*_REQUIRED, *(o for o in _OPTIONAL if o in header)))
-    for row, lineno in zip(cells, lines, strict=True):
-        if len(row) <= width:
-            raise InputFileError(
-                f"{p}, line {lineno}: expected {len(header)} cells ({', '.join(header)}),"
-                f" got {len(row)}"
-            )
-    df = _column(cells, lines, header.index("df_um"), "df_um", p)
-    idx = _column(cells, lines, header.index("index"), "index", p)
+    tab = read_table(
+        p,
+        required=_REQUIRED,
+        optional=_OPTIONAL,
+        what="indicator record",
+        ignore_other_columns=True,
+    )
+    df = tab.column("df_um")  # views into the table: no copies of 10-million-row columns
+    idx = tab.column("index")
     bad = (idx != 0) & (idx != 1)
     if np.any(bad):
         i = int(np.argmax(bad))
         raise InputFileError(
-            f"{p}, line {lines[i]}: column index={cells[i][header.index('index')]!r} is not"
-            " allowed; give 1 where the index mark fires, else 0"
+            f"{p}, line {tab.line_of(i)}: column index={idx[i]:g} is not allowed; give 1 where"
+            " the index mark fires, else 0"
         )
-    time = (
-        _column(cells, lines, header.index("time_s"), "time_s", p) if "time_s" in header else None
-    )
+    time = tab.column("time_s") if "time_s" in tab else None
+    problem = _reading_problem(df) or (_time_problem(time) if time is not None else None)
+    if problem is not None:
+        i, text = problem
+        raise InputFileError(f"{p}, line {tab.line_of(i)}: {text}")
     rec = IndicatorRecord(df, idx == 1, time, str(p))
     _check_marks(rec)
     return rec
@@ -224,11 +214,12 @@ def _check_marks(record: IndicatorRecord) -> NDArray[np.intp]:
             " need at least 2 (one complete revolution between consecutive marks)"
         )
     lengths = np.diff(marks)
-    if np.any(lengths < _MIN_SAMPLES):
-        i = int(np.argmax(lengths < _MIN_SAMPLES))
+    if np.any(lengths < MIN_SAMPLES_PER_REVOLUTION):
+        i = int(np.argmax(lengths < MIN_SAMPLES_PER_REVOLUTION))
         raise InputFileError(
             f"{record.source}: revolution {i + 1} (samples {marks[i] + 1}-{marks[i + 1]}) has"
-            f" {lengths[i]} sample(s); need at least {_MIN_SAMPLES} between index marks"
+            f" {lengths[i]} sample(s); need at least {MIN_SAMPLES_PER_REVOLUTION} between"
+            " index marks"
         )
     return marks
 
@@ -293,6 +284,9 @@ class ProcessedRecord:
         Remarks on the processing (e.g. a single revolution gives no uncertainty).
     source : str
         Where the record comes from.
+    dropped_revolutions : tuple of (int, int, int)
+        Revolutions excluded as far longer or shorter than the median (with
+        ``drop_bad_revolutions``): (revolution number, first sample, last sample), 1-based.
     """
 
     theta_deg: FloatArray
@@ -307,21 +301,58 @@ class ProcessedRecord:
     u_f_max_um: float
     notes: tuple[str, ...]
     source: str
+    dropped_revolutions: tuple[tuple[int, int, int], ...] = ()
 
 
 def _grid_deg(step_deg: float) -> FloatArray:
-    if not (isinstance(step_deg, int | float) and math.isfinite(step_deg) and step_deg > 0):
-        raise DesignError(f"step_deg={step_deg!r} is not allowed; give a positive number")
-    n = int(round(360.0 / step_deg))
-    if n < 4 or abs(n * step_deg - 360.0) > 1e-9:
-        raise DesignError(
-            f"step_deg={step_deg:g} is not allowed; 360 must be a whole multiple of it"
-            " (at least 4 points)"
-        )
+    n = check_step(step_deg, name="step_deg", min_points=4)
     return np.asarray(360.0 * np.arange(n, dtype=np.float64) / n, dtype=np.float64)
 
 
-def process_record(record: IndicatorRecord, *, step_deg: float = 0.1) -> ProcessedRecord:
+def _bad_revolutions(
+    record: IndicatorRecord, marks: NDArray[np.intp], drop: bool
+) -> NDArray[np.bool_]:
+    """Which revolutions to keep; refuse (or, with ``drop``, flag) the implausible ones.
+
+    A revolution of more than :data:`REVOLUTION_RATIO` times the reference number of
+    samples holds a missed index mark (two revolutions mapped onto 360°); one of fewer
+    than the reference divided by that ratio is cut short by a spurious mark. The
+    reference is the median over the revolutions (at least 3); of two revolutions that
+    differ by more than the ratio, neither can be trusted.
+    """
+    lengths = np.diff(marks)
+    keep = np.ones(lengths.size, dtype=bool)
+    if lengths.size < 2:
+        return keep
+    if lengths.size == 2:
+        lo, hi = int(lengths.min()), int(lengths.max())
+        if hi > REVOLUTION_RATIO * lo:
+            raise InputFileError(
+                f"{record.source}: the two revolutions (samples {marks[0] + 1}-{marks[1]} and"
+                f" {marks[1] + 1}-{marks[2]}) have {lengths[0]} and {lengths[1]} samples, more"
+                f" than {REVOLUTION_RATIO:g}× apart: an index mark is missed or spurious and"
+                " with two revolutions camtol cannot tell which; record more revolutions"
+            )
+        return keep
+    ref = float(np.median(lengths))
+    ratio = lengths / ref
+    bad = (ratio > REVOLUTION_RATIO) | (ratio < 1.0 / REVOLUTION_RATIO)
+    if np.any(bad) and not drop:
+        i = int(np.argmax(bad))
+        kind = "a missed index mark?" if ratio[i] > 1 else "a spurious index mark?"
+        raise InputFileError(
+            f"{record.source}: revolution {i + 1} (samples {marks[i] + 1}-{marks[i + 1]}) has"
+            f" {lengths[i]} samples, {ratio[i]:.2f}× the median {ref:g} ({kind}); allowed:"
+            f" {1 / REVOLUTION_RATIO:.2f}-{REVOLUTION_RATIO:g}× the median"
+            f" ({int(bad.sum())} revolution(s) outside); exclude them with"
+            " drop_bad_revolutions=True (camtol conjugate --drop-bad-revolutions)"
+        )
+    return np.asarray(~bad)
+
+
+def process_record(
+    record: IndicatorRecord, *, step_deg: float = 0.1, drop_bad_revolutions: bool = False
+) -> ProcessedRecord:
     """Reduce an indicator record to Δf_mea(θ) and u_f(θ) (THEORY §4.4; [CW11] §4.2, §5).
 
     Parameters
@@ -330,16 +361,24 @@ def process_record(record: IndicatorRecord, *, step_deg: float = 0.1) -> Process
         The raw samples with their index marks.
     step_deg : float
         Step of the common grid 0, step, ..., 360 − step; 360 must be a whole multiple of
-        it (0.1° gives the 3600 points of the published experiment). [deg]
+        it (0.1° gives the 3600 points of the published experiment; the one grid rule
+        :func:`camtol.grid.check_step`). [deg]
+    drop_bad_revolutions : bool
+        Exclude the revolutions far longer or shorter than the median (see Notes) and
+        report them in ``dropped_revolutions`` and ``notes``, instead of refusing the
+        record.
 
     Returns
     -------
     ProcessedRecord
+        Δf_mea, u_f and the bookkeeping of the revolutions used.
 
     Raises
     ------
     InputFileError
-        Fewer than two index marks, or a revolution with fewer than 3 samples.
+        Fewer than two index marks, a revolution with fewer than 3 samples, or (without
+        ``drop_bad_revolutions``) a revolution far longer or shorter than the median,
+        naming its sample range.
     DesignError
         A step that does not divide 360.
 
@@ -357,18 +396,37 @@ def process_record(record: IndicatorRecord, *, step_deg: float = 0.1) -> Process
     sample points u_f understates the reading noise: with 4500 samples per revolution on a
     0.1° grid the rms of u_f is about √(11/16) ≈ 0.83 of 3σ. This is THEORY §4.4's
     procedure, followed as written; the tests state the factor.
+
+    A missed index mark makes one "revolution" of two, mapped onto 360° (the mean error
+    then rises tenfold); a spurious mark cuts one short. So a revolution with more than
+    1.5 times the median number of samples, or fewer than 1/1.5 ≈ 0.67 times, is refused
+    (named by its sample range) or, with ``drop_bad_revolutions``, excluded and
+    reported. Speed drift between revolutions is far below that (the published
+    experiment's is about 1 %). With two revolutions the median cannot tell the bad one:
+    two that differ by more than 1.5 times are refused.
     """
     grid = _grid_deg(step_deg)
     marks = _check_marks(record)
-    lengths = np.diff(marks).astype(np.intp)
+    keep = _bad_revolutions(record, marks, drop_bad_revolutions)
+    starts, ends = marks[:-1][keep], marks[1:][keep]
+    dropped = tuple(
+        (int(i) + 1, int(marks[i]) + 1, int(marks[i + 1])) for i in np.flatnonzero(~keep)
+    )
+    lengths = (ends - starts).astype(np.intp)
     revs = lengths.size
     resampled = np.empty((revs, grid.size))
     for i in range(revs):  # one pass per revolution; vectorised within it
-        seg = record.df_um[marks[i] : marks[i + 1]]
+        seg = record.df_um[starts[i] : ends[i]]
         angles = 360.0 * np.arange(seg.size) / seg.size
         resampled[i] = np.interp(grid, angles, seg, period=360.0)
     mean = resampled.mean(axis=0)
     notes: list[str] = []
+    if dropped:
+        notes.append(
+            f"{len(dropped)} revolution(s) far longer or shorter than the median excluded"
+            f" (missed or spurious index marks): "
+            + ", ".join(f"revolution {n} (samples {a}-{b})" for n, a, b in dropped)
+        )
     if revs > 1:
         u_f = 3.0 * resampled.std(axis=0, ddof=1)
     else:
@@ -402,6 +460,7 @@ def process_record(record: IndicatorRecord, *, step_deg: float = 0.1) -> Process
         u_f_max_um=float(u_f.max()),
         notes=tuple(notes),
         source=record.source,
+        dropped_revolutions=dropped,
     )
 
 
@@ -515,82 +574,3 @@ def record_estimates(
         step_deg=step,
     )
     return RecordEstimates(processed, theta, u_f, upper, lower, extremes)
-
-
-def simulate_record(
-    df_um: Callable[[FloatArray], ArrayLike] | ErrorFunction,
-    *,
-    revolutions: int = 10,
-    samples_per_revolution: int | Sequence[int] = 4500,
-    noise_um: float = 0.5,
-    rng: np.random.Generator | int = 0,
-    sample_rate_hz: float = 5.0,
-    leading_samples: int = 0,
-    trailing_samples: int = 0,
-) -> IndicatorRecord:
-    """Simulate a dial-indicator record of a known Δf(θ) (THEORY §4.4, §8.4).
-
-    Parameters
-    ----------
-    df_um : callable or ErrorFunction
-        The true centre-distance variation: θ [rad] (array) → Δf [µm] (array), e.g. an
-        :class:`~camtol.inspection.fixture.ErrorFunction`.
-    revolutions : int
-        Complete revolutions (the published experiment: 10).
-    samples_per_revolution : int or sequence of int
-        Samples per revolution, one number for all or one per revolution (speed drift
-        between revolutions); 4 rev/h at 5 Hz gives 4500.
-    noise_um : float
-        Standard deviation of the Gaussian reading noise, independent per sample. [µm]
-    rng : numpy.random.Generator or int
-        Random generator, or a seed for :func:`numpy.random.default_rng`.
-    sample_rate_hz : float
-        Sampling rate, for the ``time_s`` column. [Hz]
-    leading_samples : int
-        Samples before the first index mark (the end of a previous revolution).
-    trailing_samples : int
-        Samples after the closing index mark (which starts an incomplete revolution).
-
-    Returns
-    -------
-    IndicatorRecord
-        ``leading_samples`` + the revolutions + the closing mark + ``trailing_samples``;
-        the samples of each revolution at θ = 2π·k/n, the index marks at θ = 0.
-    """
-    if isinstance(revolutions, bool) or not isinstance(revolutions, int) or revolutions < 1:
-        raise DesignError(f"revolutions={revolutions!r} is not allowed; give an integer ≥ 1")
-    counts = (
-        [samples_per_revolution] * revolutions
-        if isinstance(samples_per_revolution, int)
-        else list(samples_per_revolution)
-    )
-    if len(counts) != revolutions or any(
-        isinstance(c, bool) or not isinstance(c, int | np.integer) or c < _MIN_SAMPLES
-        for c in counts
-    ):
-        raise DesignError(
-            f"samples_per_revolution={samples_per_revolution!r} is not allowed; give an"
-            f" integer ≥ {_MIN_SAMPLES} or one per revolution ({revolutions})"
-        )
-    for name, value in (
-        ("leading_samples", leading_samples),
-        ("trailing_samples", trailing_samples),
-    ):
-        if not isinstance(value, int) or value < 0:
-            raise DesignError(f"{name}={value!r} is not allowed; give an integer ≥ 0")
-    if not (math.isfinite(noise_um) and noise_um >= 0):
-        raise DesignError(f"noise_um={noise_um!r} is not allowed; give a number ≥ 0 µm")
-    if not (math.isfinite(sample_rate_hz) and sample_rate_hz > 0):
-        raise DesignError(f"sample_rate_hz={sample_rate_hz!r} is not allowed; give a number > 0")
-    gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-    n_lead, n_trail = leading_samples, trailing_samples + 1  # the closing mark starts it
-    parts = [2 * math.pi * (np.arange(counts[0] - n_lead, counts[0]) / counts[0])]
-    parts += [2 * math.pi * np.arange(c) / c for c in counts]
-    parts.append(2 * math.pi * np.arange(n_trail) / counts[-1])
-    theta = np.concatenate(parts)
-    index = np.zeros(theta.size, dtype=bool)
-    index[n_lead + np.concatenate([[0], np.cumsum(counts)])] = True
-    truth = np.broadcast_to(np.asarray(df_um(theta), dtype=float), theta.shape)
-    df = truth + (gen.normal(0.0, noise_um, theta.size) if noise_um > 0 else 0.0)
-    time_s = np.arange(theta.size) / sample_rate_hz
-    return IndicatorRecord(np.asarray(df, dtype=float), index, time_s, "simulated")

@@ -18,7 +18,9 @@ import numpy as np
 from camtol import __version__
 from camtol.analysis import Analysis
 from camtol.extremes import Extreme
-from camtol.inspection.fixture import FixtureInspection, FixtureSpec, merge_intervals
+from camtol.inspection.acceptance import merge_intervals
+from camtol.inspection.fixture import FixtureInspection
+from camtol.inspection.spec import FixtureSpec
 from camtol.jet import FloatArray
 from camtol.kinematics import kinematics
 from camtol.mechanisms.conjugate import cam_design
@@ -132,7 +134,9 @@ def fixture_curves_columns(
     -------
     dict of str to ndarray
         ``theta_deg`` [deg] then the variation, estimate and band curves [µm]; estimate
-        columns are NaN when the inspection has no measurement.
+        columns are NaN when the inspection has no measurement. ``df_est_pred_um`` is the
+        Δf_est of CW11 eqs. 14-18 from the known errors of both cams (the master errors),
+        beside the measured ``df_mea_um`` (whose ``df_est_um`` is the measurement itself).
     """
     v, b = res.variation, res.bands
     nan = np.full(res.theta_rad.shape, np.nan)
@@ -145,6 +149,7 @@ def fixture_curves_columns(
         "df_eta_um": v.df_eta_um,
         "df_est_um": v.df_est_um,
         "df_mea_um": est.df_mea_um if est is not None else nan,
+        "df_est_pred_um": res.predicted.df_est_um if res.predicted is not None else nan,
         "dr_A_est_um": est.dr_a_est_um if est is not None else nan,
         "dr_B_est_um": est.dr_b_est_um if est is not None else nan,
         "df_A_upper_um": b.df_a_upper_um,
@@ -217,7 +222,9 @@ def fixture_json(
         Design name written to the ``design`` field.
     record : RecordEstimates, optional
         With an indicator record (THEORY §4.4): adds a ``record`` object (revolutions,
-        samples per revolution min/max, ``u_f_max_um``, ``u_f_rms_um``, ``df_mea_rms_um``,
+        samples per revolution min/max, ``discarded_samples``, ``dropped_revolutions``
+        (``revolution``, ``first_sample``, ``last_sample``, 1-based, with
+        ``--drop-bad-revolutions``), ``u_f_max_um``, ``u_f_rms_um``, ``df_mea_rms_um``,
         notes) and the extremes of ``u_f_um`` and of the estimates at Δf_mea ± u_f
         (``dr_A_est_upper_um``, ``dr_A_est_lower_um``, ``dr_B_est_upper_um``,
         ``dr_B_est_lower_um``). The verdicts stay those of the mean record.
@@ -225,7 +232,11 @@ def fixture_json(
     Returns
     -------
     dict
-        JSON-ready dict; lengths in µm and angles in degrees, as the keys say.
+        JSON-ready dict; lengths in µm and angles in degrees, as the keys say. With a
+        measurement, ``prediction`` compares the Δf_est of CW11 eqs. 14-18 from the known
+        errors of both cams (``master_A``, ``master_B``) with Δf_mea:
+        ``df_est_minus_mea_rms_um``, ``df_est_minus_mea_max_abs_um`` and ``at_deg``
+        (null without a measurement).
     """
     th = np.degrees(res.theta_rad)
     extremes = {f"{k}_um": _extreme(mx, mn) for k, (mx, mn) in res.extremes.items()}
@@ -249,6 +260,7 @@ def fixture_json(
             "df_mea": spec.df_mea.description if spec.df_mea is not None else None,
         },
         "extremes": extremes,
+        "prediction": _prediction_json(res),
         "verdicts": {
             cam: {
                 "passed": v.passed,
@@ -271,6 +283,20 @@ def fixture_json(
     return out
 
 
+def _prediction_json(res: FixtureInspection) -> dict[str, Any] | None:
+    """Δf_est (eqs. 14-18, known errors) against Δf_mea: rms and largest difference."""
+    diff = res.df_est_minus_mea_um
+    if diff is None:
+        return None
+    i = int(np.argmax(np.abs(diff)))
+    return {
+        "known_errors": "master_A, master_B",
+        "df_est_minus_mea_rms_um": float(np.sqrt(np.mean(diff**2))),
+        "df_est_minus_mea_max_abs_um": float(abs(diff[i])),
+        "at_deg": float(np.degrees(res.theta_rad[i])),
+    }
+
+
 def _record_json(record: RecordEstimates) -> dict[str, Any]:
     p = record.processed
     return {
@@ -281,6 +307,10 @@ def _record_json(record: RecordEstimates) -> dict[str, Any]:
             "max": int(p.samples_per_revolution.max()),
         },
         "discarded_samples": p.discarded_samples,
+        "dropped_revolutions": [
+            {"revolution": n, "first_sample": a, "last_sample": b}
+            for n, a, b in p.dropped_revolutions
+        ],
         "grid_step_deg": float(p.theta_deg[1] - p.theta_deg[0]),
         "u_f_max_um": p.u_f_max_um,
         "u_f_rms_um": p.u_f_rms_um,
@@ -358,6 +388,13 @@ def print_fixture(
     con.print(table)
     if record is not None:
         _print_record(con, record)
+    pred = _prediction_json(res)
+    if pred is not None:
+        con.print(
+            "Δf_est from the known errors of both cams (CW11 eqs. 14-18; the master errors)"
+            f" − Δf_mea: rms {pred['df_est_minus_mea_rms_um']:.3f} µm, largest"
+            f" {pred['df_est_minus_mea_max_abs_um']:.3f} µm at θ = {pred['at_deg']:.1f}°"
+        )
     if not res.verdicts:
         con.print("No measured Δf: forward variation of the master pair only; no verdict.")
         return

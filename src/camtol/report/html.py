@@ -24,7 +24,8 @@ from camtol.design import IT_CONVENTIONS, CamDesign
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-    from camtol.inspection.fixture import FixtureInspection, FixtureSpec
+    from camtol.inspection.fixture import FixtureInspection
+    from camtol.inspection.spec import FixtureSpec
 
 __all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
 
@@ -123,15 +124,12 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _inspection(
-    design: CamDesign, base_dir: Path | None
-) -> tuple[FixtureInspection, FixtureSpec] | None:
-    raw = design.extras.get("inspection")
-    if design.mechanism.kind != "conjugate" or not raw:
+def _inspection(design: CamDesign) -> tuple[FixtureInspection, FixtureSpec] | None:
+    spec = design.inspection
+    if design.mechanism.kind != "conjugate" or spec is None:
         return None
-    from camtol.inspection.fixture import fixture_spec_from_mapping, inspect_conjugate
+    from camtol.inspection.fixture import inspect_conjugate
 
-    spec = fixture_spec_from_mapping(raw, base_dir=base_dir)  # type: ignore[arg-type]
     return inspect_conjugate(design, spec), spec
 
 
@@ -187,20 +185,13 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(
-    design_or_analysis: CamDesign | Analysis,
-    *,
-    base_dir: str | Path | None = None,
-    sections: Sequence[str] = (),
-) -> str:
+def report_html(design_or_analysis: CamDesign | Analysis, *, sections: Sequence[str] = ()) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
     ----------
     design_or_analysis : CamDesign or Analysis
         A design (analysed with the default 0.1° step) or a finished analysis.
-    base_dir : str or Path, optional
-        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
     sections : sequence of str
         Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
         :func:`camtol.report.tolerancing.montecarlo_section`).
@@ -219,7 +210,7 @@ def report_html(
         else analyse(design_or_analysis)
     )
     d = a.design
-    fixture = _inspection(d, Path(base_dir) if base_dir is not None else None)
+    fixture = _inspection(d)
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -341,7 +332,6 @@ def write_report(
     design_or_analysis: CamDesign | Analysis,
     path: str | Path,
     *,
-    base_dir: str | Path | None = None,
     sections: Sequence[str] = (),
 ) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
@@ -352,8 +342,6 @@ def write_report(
         A design (analysed with the default 0.1° step) or a finished analysis.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
-    base_dir : str or Path, optional
-        Directory of the design file, for relative CSV paths in its ``[inspection]`` table.
     sections : sequence of str
         Extra HTML sections inserted before the figures.
 
@@ -393,5 +381,5 @@ def write_report(
         if isinstance(design_or_analysis, Analysis)
         else analyse(design_or_analysis)
     )
-    atomic_write(p, report_html(a, base_dir=base_dir, sections=sections))
+    atomic_write(p, report_html(a, sections=sections))
     return a

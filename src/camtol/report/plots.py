@@ -473,6 +473,10 @@ def _fixture_theta(inspection: FixtureInspection) -> FloatArray:
 def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = None) -> list[Any]:
     """Centre-distance variation Δf and its components (THEORY §4.1, CW11 eqs. 14-18).
 
+    With a measurement the components come from it (eq. 19) and their sum is Δf_mea; the
+    Δf_est predicted from the known errors of both cams (eqs. 14-18) is drawn dashed
+    beside it.
+
     Parameters
     ----------
     inspection : FixtureInspection
@@ -499,6 +503,14 @@ def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = No
     ):
         arts += ax.plot(t, y, color=_COLOURS[i], label=label)
     arts += ax.plot(t, v.df_est_um, "k-", lw=1.6, label="Δf_est (sum)")
+    if inspection.predicted is not None:  # beside the measurement: eqs. 14-18, known errors
+        arts += ax.plot(
+            t,
+            inspection.predicted.df_est_um,
+            "k--",
+            lw=1.2,
+            label="Δf_est from the known errors (eqs. 14-18)",
+        )
     ax.axhline(0.0, color="0.5", lw=0.6)
     ax.set_ylabel(_label("Δf", "um"))
     ax.set_title("Centre-distance variation and its components")

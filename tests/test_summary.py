@@ -1,0 +1,68 @@
+"""Nominal motion peaks and per-cam geometry figures (issue 13 items 1-3)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from camtol.config import load_example
+from camtol.kinematics import analysis_grid, kinematics
+from camtol.summary import STANDARD_GRAVITY, cam_geometry, motion_peaks
+
+
+def _kin(name: str, step: float = 0.1):  # type: ignore[no-untyped-def]
+    d = load_example(name)
+    theta, left = analysis_grid(step, d.program.boundaries_rad)
+    return d, kinematics(d, theta, left_limit=left, check=False)
+
+
+def test_cycloidal_peaks_match_closed_form() -> None:
+    # THEORY §1, cycloidal motion h over β: |V| ≤ 2h/β, |A| ≤ 2πh/β², |J| ≤ 4π²h/β³ (J is
+    # largest at the ends, where it jumps: the one-sided limits are on the grid). CW06
+    # Example 1: rise over 120°, the faster return over 100° sets |A| and |J|.
+    d, kin = _kin("cw06-translating")
+    h, rise, ret = 22.0, math.radians(120.0), math.radians(100.0)
+    p = motion_peaks(kin, output="translating", omega_rad_s=None)
+    assert p.velocity.max == pytest.approx(2 * h / rise, rel=1e-9)
+    assert p.velocity.min == pytest.approx(-2 * h / ret, rel=1e-9)
+    assert p.acceleration.abs_max == pytest.approx(2 * math.pi * h / ret**2, rel=1e-6)
+    assert p.jerk.abs_max == pytest.approx(4 * math.pi**2 * h / ret**3, rel=1e-9)
+    assert p.at_speed() is None
+
+
+def test_peaks_at_speed_in_si_units() -> None:
+    d, kin = _kin("roller-translating")
+    assert d.omega_rad_s is not None
+    p = motion_peaks(kin, output="translating", omega_rad_s=d.omega_rad_s)
+    at = p.at_speed()
+    assert at is not None
+    v, a, j = at
+    w = d.omega_rad_s
+    assert v.abs_max == pytest.approx(p.velocity.abs_max * w * 1e-3)  # mm/rad -> m/s
+    assert a.abs_max == pytest.approx(p.acceleration.abs_max * w**2 * 1e-3)  # m/s²
+    assert j.abs_max == pytest.approx(p.jerk.abs_max * w**3 * 1e-3)  # m/s³
+    assert a.abs_max / STANDARD_GRAVITY > 0
+
+
+def test_convex_and_concave_radii_are_reported_apart() -> None:
+    # A roller cam with a concave stretch: the old single "min radius of curvature" was a
+    # huge negative number near the inflection; the figures now separate the two kinds.
+    d, kin = _kin("roller-translating")
+    g = cam_geometry("", d.mechanism, kin)
+    rho = kin.curvature_radius_mm
+    assert g.min_convex_radius_mm == pytest.approx(float(np.min(rho[rho > 0])))
+    if np.any(rho < 0):
+        assert g.min_concave_radius_mm == pytest.approx(float(np.min(-rho[rho < 0])))
+        assert "cutter" in g.concave_limit
+    assert "roller radius" in g.convex_limit and not g.undercut
+
+
+def test_pressure_angle_limit_flag() -> None:
+    d, kin = _kin("roller-translating")
+    g = cam_geometry("", d.mechanism, kin, pressure_angle_limit_deg=10.0)
+    assert g.max_abs_pressure_angle_deg > 10.0 and g.exceeds_pressure_angle_limit
+    g = cam_geometry("", d.mechanism, kin, pressure_angle_limit_deg=89.0)
+    assert not g.exceeds_pressure_angle_limit
+    assert not cam_geometry("", d.mechanism, kin).exceeds_pressure_angle_limit
