@@ -16,6 +16,7 @@ import math
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -68,14 +69,14 @@ def main() -> list[Figure]:
 
     def fast() -> np.ndarray:
         shape = PolygonShape(pts)  # fresh: the hull is built inside the timing
-        return follow_flat_translating(theta, shape, mech).lift  # type: ignore[arg-type]
+        return follow_flat_translating(shape, mech, theta).lift  # type: ignore[arg-type]
 
     phi, e = mech.face_angle_rad, mech.offset_mm  # type: ignore[attr-defined]
     zero = mech.base_radius_mm / math.cos(phi) - e * math.tan(phi)  # type: ignore[attr-defined]
     psi = theta + phi
     # Pick the fastest block shape on a tenth of the directions (not timed below).
     shapes = [(64, 4096), (128, 2048), (256, 1024), (32, 8192)]
-    pick = {b: best_of(lambda b=b: support_blocked(psi[::10], pts, *b), 1)[0] for b in shapes}
+    pick = {b: best_of(partial(support_blocked, psi[::10], pts, *b), 1)[0] for b in shapes}
     block = min(pick, key=lambda b: pick[b])
 
     def brute() -> np.ndarray:
@@ -101,13 +102,13 @@ def main() -> list[Figure]:
         th = np.linspace(0.0, 2.0 * math.pi, 3600, endpoint=False)
         shape = AnalyticShape(d.mechanism, d.program)
         shape.polygon  # noqa: B018  (sampling not timed)
-        t, _ = best_of(lambda: follow(th, shape, d.mechanism), 3)  # noqa: B023
+        t, _ = best_of(lambda: follow(shape, d.mechanism, th), 3)  # noqa: B023
         print(f"  {name}: exact motion on the analytic profile, 3600 angles: {t * 1e3:.1f} ms")
     # Informational: a roller needs the true distance (no hull); a CMM-sized measured cam.
     dc = load_example("cw11-conjugate")
     cam = AnalyticShape(dc.mechanism.cam_a, dc.program, samples=3600).polygon  # type: ignore[attr-defined]
     th = np.linspace(0.0, 2.0 * math.pi, 3600, endpoint=False)
-    t_r, _ = best_of(lambda: follow(th, cam, dc.mechanism), 1)
+    t_r, _ = best_of(lambda: follow(cam, dc.mechanism, th), 1)
     print(f"  oscillating roller on a 3600-point polygon, 3600 angles: {t_r * 1e3:.0f} ms")
     # Does a compiled inner loop earn its place? Time a numba brute force of the same max.
     try:

@@ -252,6 +252,8 @@ def report(
         if mc_samples is not None and mc_samples <= 0:
             fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")
         a = analyse(load_input(design, example), step_deg=step_deg)
+        from camtol.study import study
+
         sections: list[str] = []
         if mc_samples is not None:
             from camtol.report.tolerancing import montecarlo_section
@@ -259,7 +261,7 @@ def report(
 
             mc = monte_carlo(a.design, mc_samples, step_deg=step_deg)
             sections.append(montecarlo_section(mc))
-        write_report(a, output, sections=sections)
+        write_report(study(a), output, sections=sections)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

@@ -185,7 +185,7 @@ def run_exact(
     exact = np.empty((samples, theta.size))
     for i in range(samples):
         shape, mech, phase = _sample_shape(study, x[i])
-        res = follow(theta - phase, shape, mech, reference=design.mechanism, left_limit=left)
+        res = follow(shape, mech, theta - phase, reference=design.mechanism, left_limit=left)
         exact[i] = res.lift - nominal
         if progress is not None:
             progress(i + 1, samples)
