@@ -27,6 +27,7 @@ BENCHMARKS = [
     "bench_manufacturing",
     "bench_record",
     "bench_store",
+    "bench_montecarlo",
 ]
 
 if __name__ == "__main__":

@@ -529,6 +529,16 @@ def _register_subcommands() -> None:
         "records",
         "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
     )
+    LAZY_COMMANDS["montecarlo"] = (
+        "camtol.cli_tolerancing",
+        "montecarlo",
+        "Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.",
+    )
+    LAZY_COMMANDS["allocate"] = (
+        "camtol.cli_tolerancing",
+        "allocate",
+        "Choose the coarsest (cheapest) IT grade per source that meets a spec.",
+    )
     LAZY_COMMANDS["inspect"] = (
         "camtol.cli_inspect",
         "inspect",

@@ -225,6 +225,13 @@ def _write_gcode(
 )
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
+@click.option(
+    "--montecarlo",
+    "mc_samples",
+    type=int,
+    metavar="N",
+    help="Add a linear Monte Carlo section with N samples (docs/tolerancing.md).",
+)
 def report(
     design: str | None,
     example: str | None,
@@ -232,6 +239,7 @@ def report(
     step_deg: float,
     as_json: bool,
     quiet: bool,
+    mc_samples: int | None,
 ) -> None:
     """Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.
 
@@ -247,10 +255,19 @@ def report(
 
         guard_paths({"DESIGN": design}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
+        if mc_samples is not None and mc_samples <= 0:
+            fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")
         a = analyse(load_input(design, example), step_deg=step_deg)
         from camtol.study import study
 
-        write_report(study(a), output)
+        sections: list[str] = []
+        if mc_samples is not None:
+            from camtol.report.tolerancing import montecarlo_section
+            from camtol.tolerancing import monte_carlo
+
+            mc = monte_carlo(a.design, mc_samples, step_deg=step_deg)
+            sections.append(montecarlo_section(mc))
+        write_report(study(a), output, sections=sections)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

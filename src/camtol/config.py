@@ -246,6 +246,8 @@ class DesignSchema(_Strict):
     # The conjugate fixture's inputs: typed by camtol.inspection.spec (field names checked
     # there, so that messages name them as `inspection.<field>`).
     inspection: dict[str, Any] = {}
+    # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
+    statistics: dict[str, Any] = {}
 
 
 def _short(value: Any) -> str:
@@ -440,6 +442,7 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             description=top.description,
             reference=top.reference,
             inspection=_inspection(top.inspection, base_dir),
+            extras={"statistics": top.statistics} if top.statistics else {},
         )
     except ConfigError:
         raise

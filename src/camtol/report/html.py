@@ -12,6 +12,7 @@ import datetime as _dt
 import html
 import io
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -176,7 +177,7 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(study: Study) -> str:
+def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
@@ -184,6 +185,9 @@ def report_html(study: Study) -> str:
     study : Study
         Every result the report shows, from :func:`camtol.study.study`; the report only
         formats it.
+    sections : sequence of str
+        Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
+        :func:`camtol.report.tolerancing.montecarlo_section`).
 
     Returns
     -------
@@ -280,6 +284,7 @@ def report_html(study: Study) -> str:
         erows.append([q.label, _pretty(q.unit), _fmt(mx.value), mx.where, _fmt(mn.value), mn.where])
     parts.append(_table(["quantity", "unit", "max", "at θ", "min", "at θ"], erows, {2, 4}))
 
+    parts.extend(sections)
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
@@ -316,7 +321,7 @@ def report_html(study: Study) -> str:
     return "\n".join(parts) + "\n"
 
 
-def write_report(study: Study, path: str | Path) -> Analysis:
+def write_report(study: Study, path: str | Path, *, sections: Sequence[str] = ()) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
     Parameters
@@ -325,6 +330,8 @@ def write_report(study: Study, path: str | Path) -> Analysis:
         Every result the report shows, from :func:`camtol.study.study`.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
+    sections : sequence of str
+        Extra HTML sections inserted before the figures.
 
     Returns
     -------
@@ -359,5 +366,5 @@ def write_report(study: Study, path: str | Path) -> Analysis:
     from camtol.report.tables import curves_columns
 
     require_finite_columns(curves_columns(study.analysis), where=str(p))
-    atomic_write(p, report_html(study))
+    atomic_write(p, report_html(study, sections=sections))
     return study.analysis

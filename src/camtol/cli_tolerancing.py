@@ -1,0 +1,361 @@
+"""``camtol montecarlo`` and ``camtol allocate``: statistical tolerance design (issue 11).
+
+Registered on the ``camtol`` group by :mod:`camtol.cli`. Exit status 0 ok, 2 on bad input
+(one line on stderr, nothing written). Files and keys: docs/tolerancing.md.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import click
+
+from camtol.cli import (
+    EXIT_OK,
+    _Exit,
+    check_output_path,
+    design_options,
+    echo_json,
+    fail,
+    load_input,
+    run_guarded,
+)
+
+__all__ = ["allocate", "montecarlo"]
+
+
+@contextmanager
+def _progress(label: str, enabled: bool) -> Iterator[Callable[[int, int], None] | None]:
+    """Show a rich progress bar on stderr, only when stderr is a terminal."""
+    if not (enabled and sys.stderr.isatty()):
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import Progress
+
+    with Progress(console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(label, total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def _spec(design: Any, spec_um: float | None, spec_deg: float | None) -> float | None:
+    if spec_um is not None and spec_deg is not None:
+        fail("give --spec-um or --spec-deg, not both")
+    oscillating = design.mechanism.output == "oscillating"
+    if spec_um is not None:
+        if oscillating:
+            fail(f"--spec-um={spec_um:g}: the output of this design is an angle; use --spec-deg")
+        if not (math.isfinite(spec_um) and spec_um > 0):
+            fail(f"--spec-um={spec_um!r} must be > 0")
+        return spec_um * 1e-3
+    if spec_deg is not None:
+        if not oscillating:
+            fail(f"--spec-deg={spec_deg:g}: the output of this design is a lift; use --spec-um")
+        if not (math.isfinite(spec_deg) and spec_deg > 0):
+            fail(f"--spec-deg={spec_deg!r} must be > 0")
+        return math.radians(spec_deg)
+    return None
+
+
+def curves_csv(result: Any) -> str:
+    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md)."""
+    s = result.statistics["lift"]
+    u = s.unit
+    cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
+    cols += [f"share_{k}" for k in result.shares]
+    buf = io.StringIO()
+    buf.write(",".join(cols) + "\n")
+    arrays = [result.theta_deg, s.mean, s.std, s.q00135, s.q50, s.q99865, *result.shares.values()]
+    for row in zip(*arrays, strict=True):
+        buf.write(",".join(f"{v:.9g}" for v in row) + "\n")
+    return buf.getvalue()
+
+
+def _plot(result: Any, path: str) -> None:
+    from pathlib import Path
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from camtol.report.files import atomic_output
+
+    s = result.statistics["lift"]
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    t = result.theta_deg
+    ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
+    ax.plot(t, s.mean, label="mean")
+    ax.plot(t, s.q50, ":", label="median")
+    ax.set_xlabel("cam angle θ [deg]")
+    ax.set_ylabel(f"ΔS [{s.unit}]")
+    ax.set_xlim(0, 360)
+    ax.set_title(f"{result.design_name}: Monte Carlo ({result.mode}, {result.samples} samples)")
+    ax.legend(loc="best")
+    fig.tight_layout()
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
+    plt.close(fig)
+
+
+def _print(result: Any) -> None:
+    echo = click.echo
+    s = result.statistics["lift"]
+    u = s.unit
+    echo(
+        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
+        f" seed {result.seed}"
+    )
+    for k, v in result.sources.items():
+        echo(f"  source {k:<10} {v}")
+    for q in ("velocity", "acceleration"):
+        if q in result.statistics:
+            v = result.statistics[q]
+            echo(
+                f"  max |d{q[0].upper()}| [{v.unit}]: mean {v.max_abs.mean:.4g},"
+                f" 99.865 % {v.max_abs.q99865:.4g}"
+            )
+    m = s.max_abs
+    echo(
+        f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
+        f" median {m.q50:.4g}, 99.865 % {m.q99865:.4g}"
+    )
+    y = result.yield_estimate
+    if y is not None:
+        echo(f"  yield ({y.spec}): {y.value:.4%}  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]")
+    echo(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
+    for c in result.contributions:
+        echo(f"    {c.source:<12}{c.variance_share:>8.1%}")
+    echo(f"  {'source':<12}{'worst case':>12}{'RSS':>10}{'MC 99.73 %':>12}   [{u}]")
+    for r in result.comparison:
+        echo(f"  {r.source:<12}{r.worst_case:>12.4g}{r.rss:>10.4g}{r.mc_9973:>12.4g}")
+    if result.difference is not None:
+        d = result.difference
+        echo(
+            f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
+            f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}"
+        )
+    for n in result.notes:
+        echo(f"  note: {n}")
+
+
+@click.command()
+@design_options
+@click.option("--samples", "-n", type=int, required=True, help="Number of sampled mechanisms.")
+@click.option("--mode", type=click.Choice(["linear", "exact"]), default="linear", show_default=True)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random streams.")
+@click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um] (gives the yield).")
+@click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option("--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid [deg].")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.option("--curves", metavar="FILE.csv", help="Write per-angle statistics and shares.")
+@click.option("--plot", metavar="FILE.png", help="Write the band figure (PNG, SVG, PDF).")
+@click.option("--scheduler", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786.")
+@click.option("--workers", type=int, default=1, show_default=True, help="Local threads.")
+@click.option(
+    "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."
+)
+def montecarlo(
+    design: str | None,
+    example: str | None,
+    samples: int,
+    mode: str,
+    seed: int,
+    spec_um: float | None,
+    spec_deg: float | None,
+    step_deg: float,
+    as_json: bool,
+    curves: str | None,
+    plot: str | None,
+    scheduler: str | None,
+    workers: int,
+    derivatives: bool,
+) -> None:
+    """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions."""
+
+    def body() -> int:
+        check_output_path(curves, "--curves", [".csv"])
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        if samples <= 0:
+            fail(f"--samples={samples} is not allowed; give a whole number ≥ 1")
+        if seed < 0:
+            fail(f"--seed={seed} is not allowed; give a whole number ≥ 0")
+        if workers < 1:
+            fail(f"--workers={workers} is not allowed; give 1 or more")
+        d = load_input(design, example)
+        spec = _spec(d, spec_um, spec_deg)
+        from camtol.tolerancing import monte_carlo
+
+        with _progress("Monte Carlo", not as_json) as progress:
+            res = monte_carlo(
+                d,
+                samples,
+                mode=mode,  # type: ignore[arg-type]
+                seed=seed,
+                spec=spec,
+                quantities=("lift", "velocity", "acceleration") if derivatives else ("lift",),
+                step_deg=step_deg,
+                workers=workers,
+                scheduler=scheduler,
+                progress=progress,
+            )
+        if curves:
+            from camtol.report.files import atomic_write
+
+            atomic_write(curves, curves_csv(res))
+        if plot:
+            _plot(res, plot)
+        if as_json:
+            echo_json(res.to_dict())
+        else:
+            _print(res)
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))
+
+
+@click.command()
+@design_options
+@click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um].")
+@click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option(
+    "--criterion",
+    type=click.Choice(["worst_case", "rss", "monte_carlo"]),
+    default="worst_case",
+    show_default=True,
+)
+@click.option(
+    "--yield",
+    "target_yield",
+    type=float,
+    default=0.9973,
+    show_default=True,
+    help="Yield target of the monte_carlo criterion (0-1).",
+)
+@click.option("--grades", default="IT5-IT12", show_default=True, help="Grade range, e.g. IT5-IT12.")
+@click.option(
+    "--cost-exponent",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help="b in cost = sum a_k (T_coarsest/T_k)^b.",
+)
+@click.option(
+    "--cost",
+    "costs",
+    multiple=True,
+    metavar="KEY=A",
+    help="Cost coefficient a_k of a source (default 1), repeatable.",
+)
+@click.option(
+    "--samples",
+    type=int,
+    default=20000,
+    show_default=True,
+    help="Samples per candidate (monte_carlo) .",
+)
+@click.option("--verify-samples", type=int, default=20000, show_default=True)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def allocate(
+    design: str | None,
+    example: str | None,
+    spec_um: float | None,
+    spec_deg: float | None,
+    criterion: str,
+    target_yield: float,
+    grades: str,
+    cost_exponent: float,
+    costs: tuple[str, ...],
+    samples: int,
+    verify_samples: int,
+    seed: int,
+    as_json: bool,
+) -> None:
+    """Choose the coarsest (cheapest) IT grade per source that meets a spec."""
+
+    def body() -> int:
+        from camtol import iso286
+        from camtol.tolerancing import allocate as run
+
+        d = load_input(design, example)
+        spec = _spec(d, spec_um, spec_deg)
+        if spec is None:
+            fail("give the spec on max |dS|: --spec-um (lift) or --spec-deg (swing)")
+        lo, sep, hi = grades.partition("-")
+        try:
+            a, b = iso286.parse_grade(lo), iso286.parse_grade(hi if sep else lo)
+        except ValueError as exc:
+            fail(f"--grades={grades!r}: {exc}")
+        i, j = iso286.GRADES.index(a), iso286.GRADES.index(b)
+        if i > j:
+            fail(f"--grades={grades!r}: the finer grade comes first (e.g. IT5-IT12)")
+        coef: dict[str, float] = {}
+        for c in costs:
+            k, _, v = c.partition("=")
+            try:
+                coef[k] = float(v)
+            except ValueError:
+                fail(f"--cost={c!r}: give KEY=NUMBER, e.g. r=2")
+        if samples <= 0 or verify_samples <= 0:
+            fail("--samples and --verify-samples must be ≥ 1")
+        res = run(
+            d,
+            float(spec),  # type: ignore[arg-type]
+            criterion=criterion,  # type: ignore[arg-type]
+            grades=iso286.GRADES[i : j + 1],
+            target_yield=target_yield,
+            cost_exponent=cost_exponent,
+            cost_coefficients=coef,
+            samples=samples,
+            verify_samples=verify_samples,
+            seed=seed,
+        )
+        if as_json:
+            out = {
+                "grades": res.grades,
+                "tolerances": res.tolerances,
+                "criterion": res.criterion,
+                "spec": res.spec,
+                "unit": res.unit,
+                "achieved": res.achieved,
+                "cost": res.cost,
+                "accuracy": res.accuracy.describe(),
+                "yield": {"value": res.verified.value, "ci95": list(res.verified.ci95)},
+                "coarser_fails": res.coarser_fails,
+                "evaluated": res.evaluated,
+            }
+            echo_json(out)
+            return EXIT_OK
+        echo = click.echo
+        echo(
+            f"camtol allocate: {d.name}, spec max |dS| <= {res.spec:g} {res.unit},"
+            f" criterion {res.criterion}"
+        )
+        for k, g in res.grades.items():
+            echo(f"  {k:<6}{g:<6}{res.tolerances[k]}")
+        what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
+        val = (
+            f"{res.achieved:.4%}"
+            if res.criterion == "monte_carlo"
+            else f"{res.achieved:.4g} {res.unit}"
+        )
+        echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
+        echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
+        y = res.verified
+        echo(
+            f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
+            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))

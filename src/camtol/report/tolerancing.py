@@ -1,0 +1,82 @@
+"""HTML section of a Monte Carlo study for the report (``camtol report --montecarlo N``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from camtol.report.html import _e, _table, figure_svg
+
+__all__ = ["montecarlo_section"]
+
+
+def montecarlo_section(result: Any) -> str:
+    """HTML of a :class:`camtol.tolerancing.MonteCarloResult`: summary, tables and figure.
+
+    Parameters
+    ----------
+    result : MonteCarloResult
+        A finished study (display units).
+
+    Returns
+    -------
+    str
+        An ``<h2>`` section with the source distributions, max |ΔS| statistics, the
+        contributor table, the worst-case / RSS / Monte Carlo comparison and the band
+        figure (inline SVG).
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    s = result.statistics["lift"]
+    u = "µm" if s.unit == "um" else "°"
+    parts = [
+        f"<h2>Monte Carlo ({_e(result.mode)} mode, {result.samples} samples,"
+        f" seed {result.seed})</h2>",
+        _table(["source", "distribution"], [[k, v] for k, v in result.sources.items()]),
+    ]
+    m = s.max_abs
+    parts.append(
+        f"<p>max |ΔS| over the cycle [{u}]: mean {m.mean:.4g}, σ {m.std:.4g},"
+        f" 0.135 % {m.q00135:.4g}, median {m.q50:.4g}, 99.865 % {m.q99865:.4g}.</p>"
+    )
+    if result.yield_estimate is not None:
+        y = result.yield_estimate
+        parts.append(
+            f"<p>Yield ({_e(y.spec)}): {y.value:.4%}, 95 % interval"
+            f" [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}] (Clopper-Pearson).</p>"
+        )
+    parts.append(f"<h3>Contributions at θ = {result.worst_angle_deg:.2f}°</h3>")
+    parts.append(
+        _table(
+            ["source", "variance share"],
+            [[c.source, f"{c.variance_share:.1%}"] for c in result.contributions],
+            {1},
+        )
+    )
+    parts.append(f"<h3>Worst case, RSS and Monte Carlo [{u}]</h3>")
+    parts.append(
+        _table(
+            ["source", "worst case", "RSS", "Monte Carlo 99.73 %"],
+            [
+                [r.source, f"{r.worst_case:.4g}", f"{r.rss:.4g}", f"{r.mc_9973:.4g}"]
+                for r in result.comparison
+            ],
+            {1, 2, 3},
+        )
+    )
+    fig = Figure(figsize=(8, 3.6))
+    ax = fig.add_subplot()
+    t = result.theta_deg
+    ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
+    ax.plot(t, s.mean, label="mean")
+    ax.set_xlim(0, 360)
+    ax.set_xlabel("cam angle θ [deg]")
+    ax.set_ylabel(f"ΔS [{s.unit}]")
+    ax.legend(loc="best")
+    fig.tight_layout()
+    parts.append(
+        f'<figure class="figure">{figure_svg(fig, prefix="mc")}<figcaption>Monte Carlo band'
+        " of the displacement error ΔS(θ).</figcaption></figure>"
+    )
+    plt.close("all")
+    return "\n".join(parts)

@@ -1,0 +1,435 @@
+"""Tolerance allocation: the cheapest IT grade per source that meets a motion spec.
+
+Given a spec on max_θ |ΔS| and a criterion (worst case Σ|ΔS_p|, RSS sqrt(ΣΔS_p²) of
+THEORY §3.4, or a Monte Carlo yield target such as 99.73 %), every combination of grades
+(default IT5-IT12 for every toleranced source) is ranked by a reciprocal-power cost
+
+    cost = Σ_k a_k (T_k(coarsest grade) / T_k)^b      (a_k = 1, b = 1 by default)
+
+(each source's cost relative to its own coarsest tolerance, so sources in µm and in
+degrees compare), and the cheapest combination that meets the spec is returned. Worst case
+and RSS are evaluated for all combinations at once (one matrix product per block).
+Monte Carlo walks the combinations in increasing cost with common random numbers, skipping
+every combination at least as coarse as one already found to fail (the yield falls when a
+tolerance grows), and stops at the first that meets the target. max_θ |ΔS| of a sample is
+the largest of x·v over the vertices v of the convex hull of the sensitivity curve {±g(θ)}
+(exact: a linear function peaks at a vertex), so it costs a few hundred angles, not 3600.
+The choice is then verified by a fresh linear Monte Carlo run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from camtol import iso286
+from camtol.design import CamDesign, ToleranceSpec
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray
+from camtol.tolerancing.model import StatisticalModel, statistical_model
+from camtol.tolerancing.results import YieldEstimate
+
+__all__ = ["Allocation", "Criterion", "allocate"]
+
+Criterion = Literal["worst_case", "rss", "monte_carlo"]
+DEFAULT_GRADES = tuple(f"IT{k}" for k in range(5, 13))
+
+
+@dataclass(frozen=True)
+class Allocation:
+    """Result of :func:`allocate` (display units: µm, or deg for an oscillating output).
+
+    Attributes
+    ----------
+    grades : dict of str to str
+        Chosen grade per source.
+    tolerances : dict of str to str
+        The resulting deviation per source, in words (e.g. ``19 µm``).
+    criterion : str
+        ``worst_case``, ``rss`` or ``monte_carlo``.
+    spec : float
+        Spec on max |ΔS|. [unit]
+    unit : str
+        ``um`` or ``deg``.
+    achieved : float
+        The criterion's figure at the chosen grades: max worst case or RSS, or the Monte
+        Carlo yield (0-1). [unit, or -]
+    cost : float
+        Cost of the choice. [-]
+    accuracy : iso286.GradeBracket
+        IT grades of the travel that bracket the worst case at the chosen grades.
+    verified : YieldEstimate
+        Yield of max |ΔS| ≤ spec from a fresh linear Monte Carlo run.
+    coarser_fails : dict of str to bool or None
+        For each source, whether one grade coarser breaks the spec (None: already at the
+        coarsest grade).
+    evaluated : int
+        Combinations evaluated.
+    """
+
+    grades: dict[str, str]
+    tolerances: dict[str, str]
+    criterion: str
+    spec: float
+    unit: str
+    achieved: float
+    cost: float
+    accuracy: iso286.GradeBracket
+    verified: YieldEstimate
+    coarser_fails: dict[str, bool | None]
+    evaluated: int
+
+
+def _with_grades(design: CamDesign, keys: list[str], grades: tuple[str, ...]) -> CamDesign:
+    specs = tuple(ToleranceSpec(k, grade=g) for k, g in zip(keys, grades, strict=True))
+    return dataclasses.replace(design, tolerances=specs)
+
+
+def _hull_angles(g: FloatArray) -> FloatArray:
+    """Rows of g at the vertices of the convex hull of {±g} (all rows if qhull cannot).
+
+    max over rows of |row · t| is reached at such a vertex, for every t.
+    """
+    # Coordinates in the span of the rows (two sources may have equal sensitivities,
+    # e.g. Δn and Δr_f of a roller, which would make the hull flat).
+    _, sv, vt = np.linalg.svd(g, full_matrices=False)
+    rank = int(np.count_nonzero(sv > 1e-10 * sv[0])) if sv.size and sv[0] > 0 else 0
+    if not 2 <= rank <= 3:  # qhull gets slow beyond 3-D on these dense curves
+        return g
+    try:
+        from scipy.spatial import ConvexHull, QhullError
+
+        p = g @ vt[:rank].T
+        hull = ConvexHull(np.vstack([p, -p]))
+        idx = np.unique(np.asarray(hull.vertices) % g.shape[0])
+        return np.asarray(g[idx], dtype=float)
+    except (QhullError, ValueError):
+        return g
+
+
+def _pareto_rows(p: FloatArray) -> FloatArray:
+    """Return the non-dominated rows of a non-negative matrix (the Pareto front).
+
+    For t ≥ 0, max over rows of row · t is reached at a row that no other row dominates
+    (≥ in every column), so only those rows are needed (exact). Each step takes the
+    remaining row of largest sum (never dominated) and drops the rows it dominates.
+    """
+    rest = p
+    keep = []
+    while rest.shape[0]:
+        i = int(np.argmax(rest.sum(axis=1)))
+        top = rest[i]
+        keep.append(top)
+        rest = rest[~np.all(rest <= top, axis=1)]
+    return np.asarray(keep)
+
+
+def allocate(
+    design: CamDesign,
+    spec: float,
+    *,
+    criterion: Criterion = "worst_case",
+    grades: tuple[str, ...] = DEFAULT_GRADES,
+    target_yield: float = 0.9973,
+    cost_exponent: float = 1.0,
+    cost_coefficients: dict[str, float] | None = None,
+    samples: int = 20000,
+    verify_samples: int = 20000,
+    seed: int = 0,
+    model: StatisticalModel | None = None,
+    step_deg: float = 0.1,
+) -> Allocation:
+    """Choose the cheapest IT grade per toleranced source meeting a spec on max |ΔS|.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design; its toleranced sources are allocated (their current values ignored).
+    spec : float
+        Spec on max_θ |ΔS|. [mm, or rad for an oscillating follower]
+    criterion : {"worst_case", "rss", "monte_carlo"}
+        How the output error is combined (THEORY §3.4) or sampled.
+    grades : tuple of str
+        Candidate grades, e.g. IT5..IT12.
+    target_yield : float
+        Yield required by the Monte Carlo criterion (0-1). [-]
+    cost_exponent : float
+        b of the reciprocal-power cost (> 0). [-]
+    cost_coefficients : dict of str to float, optional
+        a_k per source (default 1 each). [-]
+    samples, verify_samples : int
+        Monte Carlo samples per candidate and for the final verification.
+    seed : int
+        Seed of both Monte Carlo runs.
+    model : StatisticalModel, optional
+        Distributions (default: the design's ``[statistics]`` or normal Cp = 1).
+    step_deg : float
+        θ grid step. [deg]
+
+    Returns
+    -------
+    Allocation
+
+    Raises
+    ------
+    DesignError
+        A bad argument, or a spec no grade can meet (naming the dominant source and what
+        the finest grade achieves).
+    """
+    from camtol.tolerancing.montecarlo import single_threaded_blas
+
+    with single_threaded_blas():
+        return _allocate(
+            design,
+            spec,
+            criterion,
+            grades,
+            target_yield,
+            cost_exponent,
+            cost_coefficients,
+            samples,
+            verify_samples,
+            seed,
+            model,
+            step_deg,
+        )
+
+
+def _allocate(
+    design: CamDesign,
+    spec: float,
+    criterion: Criterion,
+    grades: tuple[str, ...],
+    target_yield: float,
+    cost_exponent: float,
+    cost_coefficients: dict[str, float] | None,
+    samples: int,
+    verify_samples: int,
+    seed: int,
+    model: StatisticalModel | None,
+    step_deg: float,
+) -> Allocation:
+    from camtol.tolerancing.montecarlo import monte_carlo, prepare, sample_matrix
+
+    if criterion not in ("worst_case", "rss", "monte_carlo"):
+        raise DesignError(
+            f"criterion={criterion!r} is unknown; allowed: worst_case, rss, monte_carlo"
+        )
+    if not (math.isfinite(spec) and spec > 0):
+        raise DesignError(f"spec={spec!r} is not allowed; it must be > 0")
+    if not 0 < target_yield < 1:
+        raise DesignError(f"target_yield={target_yield!r} must lie in (0, 1)")
+    if not (math.isfinite(cost_exponent) and cost_exponent > 0):
+        raise DesignError(f"cost_exponent={cost_exponent!r} must be > 0")
+    grades = tuple(iso286.parse_grade(g) for g in grades)
+    grades = tuple(sorted(set(grades), key=iso286.GRADES.index))
+    keys = [t.key for t in design.tolerances]
+    if not keys:
+        raise DesignError(f"design {design.name!r} has no [tolerances]: nothing to allocate")
+    coef = {k: 1.0 for k in keys}
+    for k, v in (cost_coefficients or {}).items():
+        if k not in coef:
+            raise DesignError(
+                f"cost coefficient for {k!r}: not a toleranced source ({', '.join(keys)})"
+            )
+        if not (math.isfinite(v) and v > 0):
+            raise DesignError(f"cost coefficient {k}={v!r} must be > 0")
+        coef[k] = float(v)
+    model = statistical_model(design) if model is None else model
+    base = prepare(
+        _with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg
+    )
+    from camtol.analysis import max_radius_mm
+
+    rmax = max_radius_mm(design)
+    # dev[k, i]: deviation of source k at grade i (internal units).
+    rows = [_with_grades(design, keys, (g,) * len(keys)).resolve_tolerances(rmax) for g in grades]
+    dev = np.array([[abs(r.deviation) for r in row] for row in rows]).T
+    g_all = base.sens["lift"]
+    nk = len(keys)
+    g = g_all[:, :nk]
+    fixed_wc = np.zeros(g.shape[0])
+    fixed_rss = np.zeros(g.shape[0])
+    if base.plan.process is not None:
+        pg = g_all[:, nk:]
+        b = base.plan.column_bounds()[1][nk:]
+        fixed_wc = np.abs(pg) @ b
+        fixed_rss = fixed_wc * fixed_wc
+    combos = np.array(list(itertools.product(range(len(grades)), repeat=nk)), dtype=np.int64)
+    t_comb = dev[np.arange(nk)[None, :], combos]  # (C, nk)
+    ref = dev[:, -1]
+    cost = ((ref[None, :] / t_comb) ** cost_exponent * np.array([coef[k] for k in keys])).sum(
+        axis=1
+    )
+    scale = base.scale
+
+    # max_θ of Σ|g_k| t_k (+ a fixed process part) is a maximum of linear functions of
+    # (t, 1) with non-negative coefficients: only the non-dominated rows (|g|, fixed) can
+    # reach it, and likewise (g², fixed) for Σ g_k² t_k² (exact).
+    wc_rows = _pareto_rows(np.hstack([np.abs(g), fixed_wc[:, None]]))
+    rss_rows = _pareto_rows(np.hstack([g * g, fixed_rss[:, None]]))
+
+    def figure(t: FloatArray) -> FloatArray:
+        """max_θ worst case or RSS for rows of tolerances t (internal units)."""
+        ones = np.ones((t.shape[0], 1))
+        if criterion == "rss":
+            return np.asarray(np.sqrt((rss_rows @ np.hstack([t * t, ones]).T).max(axis=0)))
+        return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
+
+    finest = dev[:, 0][None, :]
+    evaluated = 0
+    wc = figure(t_comb) if criterion != "monte_carlo" else None
+    if criterion == "monte_carlo":
+        u_plan = base.plan
+        x_unit = sample_matrix(u_plan, seed, samples)  # samples at the finest grades
+        verts = _hull_angles(np.hstack([g, g_all[:, nk:]]))
+        ones = np.ones((t_comb.shape[0], 1))
+        wc_ok = (wc_rows @ np.hstack([t_comb, ones]).T).max(axis=0) <= spec
+        bounded = bool(np.all(base.plan.column_bounds()[2]))
+
+        allowed = int(math.floor((1.0 - target_yield) * samples))
+
+        # Screening angles: a sample failing at a subset of the angles fails, so a
+        # candidate whose failures on the subset already exceed the allowance is
+        # rejected without the full grid (exact). Subset: each column's peak and the 64
+        # angles of largest worst case at the finest grades.
+        wc_fine = np.abs(verts[:, :nk]) @ dev[:, 0]
+        pick = set(np.argsort(wc_fine)[-64:].tolist())
+        pick |= set(np.argmax(np.abs(verts), axis=0).tolist())
+        screen = verts[sorted(pick)]
+
+        def yield_of(t: FloatArray, *, early: bool = True) -> float:
+            """Yield with common random numbers; stops once the target is out of reach."""
+            f = np.ones(x_unit.shape[1])
+            f[:nk] = t / dev[:, 0]
+            if early:
+                m = np.max(np.abs(x_unit @ (screen.T * f[:, None])), axis=1)
+                lower_failures = int(np.count_nonzero(m > spec))
+                if lower_failures > allowed:
+                    return 1.0 - lower_failures / samples  # an upper bound, below target
+            vt = verts.T * f[:, None]
+            failures = 0
+            for s0 in range(0, samples, 512):
+                m = np.max(np.abs(x_unit[s0 : s0 + 512] @ vt), axis=1)
+                failures += int(np.count_nonzero(m > spec))
+                if early and failures > allowed:
+                    return 1.0 - failures / samples  # an upper bound, below the target
+            return 1.0 - failures / samples
+
+        order = np.argsort(cost, kind="stable")
+        failed: list[np.ndarray[Any, np.dtype[np.int64]]] = []
+        choice = -1
+        for c in order:
+            idx = combos[c]
+            if any(np.all(idx >= f) for f in failed):
+                continue
+            if bounded and wc_ok[c]:
+                choice = int(c)
+                break
+            evaluated += 1
+            if yield_of(t_comb[c]) >= target_yield:
+                choice = int(c)
+                break
+            failed.append(idx)
+        if choice < 0:
+            y = yield_of(finest[0])
+            _no_grade(
+                base.theta_rad,
+                keys,
+                grades,
+                g,
+                finest[0],
+                spec,
+                scale,
+                base.unit,
+                f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})",
+            )
+        achieved = yield_of(t_comb[choice], early=False)
+        fails: dict[str, bool | None] = {}
+        for j, k in enumerate(keys):
+            idx = combos[choice].copy()
+            if idx[j] == len(grades) - 1:
+                fails[k] = None
+                continue
+            idx[j] += 1
+            fails[k] = yield_of(dev[np.arange(nk), idx]) < target_yield
+    else:
+        assert wc is not None
+        evaluated = combos.shape[0]
+        ok = wc <= spec
+        if not ok.any():
+            what = "worst case" if criterion == "worst_case" else "RSS"
+            _no_grade(
+                base.theta_rad,
+                keys,
+                grades,
+                g,
+                finest[0],
+                spec,
+                scale,
+                base.unit,
+                f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}",
+            )
+        cand = np.flatnonzero(ok)
+        choice = int(cand[np.argmin(cost[cand])])
+        achieved = float(wc[choice] * scale)
+        fails = {}
+        for j, k in enumerate(keys):
+            idx = combos[choice].copy()
+            if idx[j] == len(grades) - 1:
+                fails[k] = None
+                continue
+            idx[j] += 1
+            fails[k] = bool(figure(dev[np.arange(nk), idx][None, :])[0] > spec)
+    chosen = tuple(grades[i] for i in combos[choice])
+    final = _with_grades(design, keys, chosen)
+    tols = final.resolve_tolerances(rmax)
+    worst = float((np.abs(g) @ t_comb[choice] + fixed_wc).max() * scale)
+    if design.mechanism.output == "translating":
+        accuracy = iso286.grade_of_deviation(worst, design.program.total_travel)
+    else:
+        accuracy = iso286.grade_of_angle_deviation(worst, math.degrees(design.program.total_travel))
+    check = monte_carlo(
+        final, verify_samples, seed=seed + 1, model=model, spec=spec, step_deg=step_deg
+    )
+    assert check.yield_estimate is not None
+    return Allocation(
+        grades=dict(zip(keys, chosen, strict=True)),
+        tolerances={t.key: t.display for t in tols},
+        criterion=criterion,
+        spec=spec * scale,
+        unit=base.unit,
+        achieved=achieved,
+        cost=float(cost[choice]),
+        accuracy=accuracy,
+        verified=check.yield_estimate,
+        coarser_fails=fails,
+        evaluated=evaluated,
+    )
+
+
+def _no_grade(
+    theta_rad: FloatArray,
+    keys: list[str],
+    grades: tuple[str, ...],
+    g: FloatArray,
+    finest: FloatArray,
+    spec: float,
+    scale: float,
+    unit: str,
+    achieved: str,
+) -> None:
+    part = np.abs(g) * finest[None, :]
+    i = int(np.argmax(part.sum(axis=1)))
+    j = int(np.argmax(part[i]))
+    raise DesignError(
+        f"spec max |dS| <= {spec * scale:g} {unit} cannot be met with grades"
+        f" {grades[0]}-{grades[-1]}: with every source at {grades[0]} {achieved};"
+        f" source {keys[j]!r} dominates ({part[i, j] * scale:.4g} {unit} at"
+        f" {math.degrees(float(theta_rad[i])):.1f}°)"
+    )

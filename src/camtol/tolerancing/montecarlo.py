@@ -1,0 +1,477 @@
+"""Monte Carlo tolerance analysis of a cam design: linear and exact modes.
+
+Linear mode samples every error source from its distribution (:mod:`.distributions`,
+:mod:`.processes`) and forms ΔS(θ) = Σ_j g_j(θ) x_j from the closed-form sensitivities of
+THEORY §3 ([CW06] §3, [WC05]) in chunks (:mod:`.linear`). Exact mode runs the same samples
+through the contact engine (THEORY §5): each sample's follower perturbed
+(``Mechanism.perturbed``), its profile carrying its radial/normal errors; it reports the
+exact statistics and their difference from the linear ones on the same samples.
+
+References
+----------
+.. [CW06] W.-T. Chang, L.-I. Wu, J. Mech. Sci. Technol. 20(3):345-357, 2006.
+.. [WC05] L.-I. Wu, W.-T. Chang, Proc. IMechE C 219(2):209-224, 2005.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray
+from camtol.kinematics import analysis_grid
+from camtol.tolerancing import linear as lin
+from camtol.tolerancing.model import StatisticalModel, statistical_model
+from camtol.tolerancing.plan import (
+    CHUNK,
+    Quantity,
+    SamplingPlan,
+    chunk_uniforms,
+    display_scale,
+    make_plan,
+    sensitivity_matrices,
+)
+from camtol.tolerancing.results import (
+    AngleStatistics,
+    ComparisonRow,
+    Contribution,
+    MonteCarloResult,
+    Summary,
+    YieldEstimate,
+)
+
+__all__ = ["Mode", "Study", "monte_carlo", "prepare"]
+
+Mode = Literal["linear", "exact"]
+PROBS = (0.00135, 0.5, 0.99865)
+#: Largest number of samples of a linear study (memory is bounded; this bounds time).
+MAX_LINEAR_SAMPLES = 10**10
+#: Largest memory the exact mode may use for its sample curves. [bytes]
+MAX_EXACT_BYTES = 2 * 2**30
+Progress = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class Study:
+    """A design prepared for sampling (grid, tolerances, plan, sensitivities)."""
+
+    design: CamDesign
+    theta_rad: FloatArray
+    left_limit: NDArray[np.bool_]
+    plan: SamplingPlan
+    sens: dict[str, FloatArray]
+    unit: str
+    scale: float
+
+
+def prepare(
+    design: CamDesign, *, model: StatisticalModel | None = None, step_deg: float = 0.1
+) -> Study:
+    """Grid, resolved tolerances, sampling plan and sensitivities of a design.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design; its ``[statistics]`` table gives the model unless ``model`` is given.
+    model : StatisticalModel, optional
+        Distributions and process.
+    step_deg : float
+        θ grid step. [deg]
+
+    Raises
+    ------
+    DesignError
+        No toleranced source and no process, or an invalid model.
+    """
+    from camtol.analysis import max_radius_mm
+    from camtol.kinematics import kinematics
+
+    model = statistical_model(design) if model is None else model
+    theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
+    kinematics(design, theta, left_limit=left, check=True)
+    tolerances = design.resolve_tolerances(max_radius_mm(design))
+    plan = make_plan(design, model, tolerances)
+    if plan.columns == 0:
+        raise DesignError(
+            f"design {design.name!r} has no [tolerances] and no profile process: nothing to sample"
+        )
+    sens = sensitivity_matrices(design, plan, theta, left)
+    unit, scale = display_scale(design)
+    return Study(design, theta, left, plan, sens, unit, scale)
+
+
+def _check_samples(samples: int, mode: Mode, angles: int) -> None:
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples <= 0:
+        raise DesignError(f"samples={samples!r} is not allowed; give a whole number ≥ 1")
+    if mode == "linear" and samples > MAX_LINEAR_SAMPLES:
+        raise DesignError(
+            f"samples={samples} is not allowed; a linear study takes at most"
+            f" {MAX_LINEAR_SAMPLES:.0e} samples (use a Dask cluster and split the study)"
+        )
+    need = 3 * 8 * samples * angles
+    if mode == "exact" and need > MAX_EXACT_BYTES:
+        most = MAX_EXACT_BYTES // (3 * 8 * angles)
+        raise DesignError(
+            f"samples={samples} is too large for exact mode: it keeps every curve"
+            f" ({need / 2**30:.1f} GiB); at most {most} samples on this grid"
+        )
+
+
+def _ranges(study: Study) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, float]]:
+    lo_c, hi_c, bounded = study.plan.column_bounds()
+    var = study.plan.column_variance()
+    mean = study.plan.column_mean()
+    lower, width, top = {}, {}, {}
+    for q, g in study.sens.items():
+        gb = g[:, bounded]
+        lo = np.minimum(gb * lo_c[bounded], gb * hi_c[bounded]).sum(axis=1)
+        hi = np.maximum(gb * lo_c[bounded], gb * hi_c[bounded]).sum(axis=1)
+        gu = g[:, ~bounded]
+        centre = gu @ mean[~bounded]
+        spread = 8.0 * np.sqrt((gu * gu) @ var[~bounded])
+        lo = lo + centre - spread
+        hi = hi + centre + spread
+        # Where ΔS cannot vary (e.g. ΔV in a dwell) the range is widened to a floor so
+        # that 1/width stays finite in float32.
+        span = hi - lo
+        floor = max(1e-9 * float(np.max(span)), 1e-30)
+        grow = np.maximum(span, floor) - span
+        lo, hi = lo - 0.5 * grow, hi + 0.5 * grow
+        pad = 1e-9 * (hi - lo)
+        lower[q] = lo - pad
+        width[q] = (hi - lo + 2 * pad) / lin.ANGLE_BINS
+        top[q] = float(max(np.max(np.abs(lower[q])), np.max(np.abs(hi + pad))))
+    return lower, width, top
+
+
+def _label_tops(study: Study) -> FloatArray:
+    lo_c, hi_c, _ = study.plan.column_bounds()
+    g = study.sens["lift"]
+    b = np.maximum(np.abs(lo_c), np.abs(hi_c))
+    return np.array(
+        [float(np.max(np.abs(g[:, a:z]) @ b[a:z])) * 1.000001 for a, z in study.plan.groups]
+    )
+
+
+@contextmanager
+def single_threaded_blas() -> Iterator[None]:
+    """Limit BLAS to one thread for the products of the Monte Carlo engine.
+
+    They have 3-20 columns, for which OpenBLAS's threads only cost (10-100x slower on a
+    busy machine, measured); parallelism comes from the tasks instead.
+    """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def _execute(
+    spec: lin.LinearSpec,
+    *,
+    chunks_per_task: int,
+    workers: int,
+    scheduler: Any,
+    progress: Progress | None,
+) -> lin.LinearTotals:
+    tasks = [
+        tuple(range(i, min(i + chunks_per_task, spec.chunks)))
+        for i in range(0, spec.chunks, chunks_per_task)
+    ]
+    total: lin.LinearTotals | None = None
+    done = 0
+
+    def fold(part: lin.LinearTotals) -> None:
+        # Fold each task into the total as it arrives (memory stays one task's worth).
+        nonlocal total, done
+        total = part if total is None else lin.merge([total, part])
+        done += 1
+        if progress is not None:
+            progress(min(done * chunks_per_task * CHUNK, spec.samples), spec.samples)
+
+    if scheduler is not None:
+        from camtol.tolerancing.parallel import run_on_dask
+
+        run_on_dask(scheduler, spec, tasks, fold)
+    else:
+        with single_threaded_blas():
+            if workers <= 1 or len(tasks) == 1:
+                for t in tasks:
+                    fold(lin.run_task(spec, t))
+            else:
+                with ThreadPoolExecutor(max_workers=workers) as pool:
+                    for part in pool.map(lambda t: lin.run_task(spec, t), tasks):
+                        fold(part)
+    assert total is not None
+    return total
+
+
+def monte_carlo(
+    design: CamDesign,
+    samples: int,
+    *,
+    mode: Mode = "linear",
+    seed: int = 0,
+    model: StatisticalModel | None = None,
+    spec: float | None = None,
+    band: tuple[FloatArray, FloatArray] | None = None,
+    quantities: tuple[Quantity, ...] = ("lift",),
+    step_deg: float = 0.1,
+    chunks_per_task: int = 4,
+    workers: int = 1,
+    scheduler: Any = None,
+    progress: Progress | None = None,
+) -> MonteCarloResult:
+    """Monte Carlo study of the output error ΔS(θ) of a design (docs/tolerancing.md).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (tolerances and optional ``[statistics]`` table).
+    samples : int
+        Number of mechanisms sampled (≥ 1).
+    mode : {"linear", "exact"}
+        Closed-form sensitivities (THEORY §3), or the contact engine (THEORY §5).
+    seed : int
+        Seed; chunk c of 4096 samples uses ``SeedSequence(seed, spawn_key=(c,))``.
+    model : StatisticalModel, optional
+        Distributions; default the design's ``[statistics]`` table or normal Cp = 1.
+    spec : float, optional
+        Spec on max_θ |ΔS|, for the yield. [mm, or rad for an oscillating follower]
+    band : (ndarray, ndarray), optional
+        Lower and upper limit curves of ΔS on the study's grid (linear mode).
+        [mm or rad]
+    quantities : tuple of {"lift", "velocity", "acceleration"}
+        Statistics wanted; ``lift`` is always included.
+    step_deg : float
+        θ grid step. [deg]
+    chunks_per_task, workers : int
+        Chunks per task and local threads (do not change the numbers).
+    scheduler : str or dask.distributed.Client, optional
+        Run the tasks on a Dask cluster (``tcp://host:port``) (linear mode).
+    progress : callable, optional
+        Called with (samples done, samples).
+
+    Returns
+    -------
+    MonteCarloResult
+
+    Raises
+    ------
+    DesignError
+        Bad number of samples, mode or model.
+    """
+    if mode not in ("linear", "exact"):
+        raise DesignError(f"mode={mode!r} is unknown; allowed: linear, exact")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise DesignError(f"seed={seed!r} is not allowed; give a whole number ≥ 0")
+    if spec is not None and not (math.isfinite(spec) and spec > 0):
+        raise DesignError(f"spec={spec!r} is not allowed; it must be > 0")
+    study = prepare(design, model=model, step_deg=step_deg)
+    _check_samples(samples, mode, study.theta_rad.size)
+    qs = ("lift", *(q for q in quantities if q != "lift"))
+    if mode == "exact":
+        from camtol.tolerancing.exact import run_exact
+
+        for name, value in (("band", band), ("scheduler", scheduler)):
+            if value is not None:
+                raise DesignError(f"{name} is supported in linear mode only (mode='exact')")
+        if len(qs) > 1:
+            raise DesignError("ΔV and ΔA statistics are supported in linear mode only")
+
+        return run_exact(study, int(samples), int(seed), spec, progress)
+    if band is not None:
+        lo_b, hi_b = (np.asarray(b, dtype=float) for b in band)
+        if lo_b.shape != study.theta_rad.shape or hi_b.shape != study.theta_rad.shape:
+            raise DesignError(
+                f"band: the curves need {study.theta_rad.size} values (one per grid angle)"
+            )
+        band = (lo_b, hi_b)
+    lower, width, top = _ranges(study)
+    lspec = lin.LinearSpec(
+        seed=int(seed),
+        samples=int(samples),
+        plan=study.plan,
+        sens={q: study.sens[q] for q in qs},
+        lower={q: lower[q] for q in qs},
+        width={q: width[q] for q in qs},
+        max_top={q: top[q] for q in qs},
+        label_top=_label_tops(study),
+        spec=spec,
+        band=band,
+    )
+    totals = _execute(
+        lspec,
+        chunks_per_task=max(1, int(chunks_per_task)),
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+    )
+    return _linear_result(study, lspec, totals, band)
+
+
+def _summary_from_hist(counts: lin.IntArray, top: float, mean: float, std: float) -> Summary:
+    q = lin.hist_quantiles(counts[None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), PROBS)
+    return Summary(mean, std, float(q[0][0]), float(q[1][0]), float(q[2][0]))
+
+
+def variance_shares(study: Study) -> dict[str, FloatArray]:
+    """Variance share of each source at every angle (linear model: g² Var / Σ g² Var)."""
+    g = study.sens["lift"]
+    part = g * g * study.plan.column_variance()[None, :]
+    total = part.sum(axis=1)
+    safe = np.where(total > 0, total, 1.0)
+    return {
+        lab: np.where(total > 0, part[:, a:b].sum(axis=1) / safe, 0.0)
+        for lab, (a, b) in zip(study.plan.labels, study.plan.groups, strict=True)
+    }
+
+
+def worst_angle(
+    q_low: FloatArray, q_high: FloatArray, band: tuple[FloatArray, FloatArray] | None
+) -> int:
+    """Index of the angle of the worst spec margin (largest |quantile| without a band)."""
+    if band is None:
+        return int(np.argmax(np.maximum(np.abs(q_low), np.abs(q_high))))
+    return int(np.argmin(np.minimum(band[1] - q_high, q_low - band[0])))
+
+
+def comparison_rows(
+    study: Study, label_q9973: list[float], combined_mc: float
+) -> tuple[ComparisonRow, ...]:
+    """Worst case, RSS and MC 99.73 % per source and combined (display units)."""
+    g = study.sens["lift"]
+    s = study.scale
+    per = np.zeros((g.shape[0], len(study.plan.labels)))
+    for j, ((a, b), d) in enumerate(zip(study.plan.groups, study.plan.deviations, strict=True)):
+        if b - a == 1:
+            per[:, j] = np.abs(g[:, a]) * d
+    if study.plan.process is not None:
+        # The process column group: the target's sensitivity times its 3σ or Σ amplitudes.
+        from camtol.design import ResolvedTolerance
+        from camtol.errors import error_analysis
+
+        p = study.plan.process
+        unit_t = (ResolvedTolerance(p.target, 1.0, "mm", "unit"),)
+        st = error_analysis(study.design, unit_t, study.theta_rad, left_limit=study.left_limit)
+        per[:, -1] = np.abs(st.sources[p.target].sensitivity) * study.plan.deviations[-1]
+    rows = [
+        ComparisonRow(lab, float(per[:, j].max() * s), float(per[:, j].max() * s), label_q9973[j])
+        for j, lab in enumerate(study.plan.labels)
+    ]
+    rows.append(
+        ComparisonRow(
+            "combined",
+            float(per.sum(axis=1).max() * s),
+            float(np.sqrt((per * per).sum(axis=1)).max() * s),
+            combined_mc,
+        )
+    )
+    return tuple(rows)
+
+
+def _linear_result(
+    study: Study,
+    spec: lin.LinearSpec,
+    totals: lin.LinearTotals,
+    band: tuple[FloatArray, FloatArray] | None,
+) -> MonteCarloResult:
+    n_tot, xmean, cov, max_stats = lin.fold_moments(totals, list(spec.sens))
+    stats: dict[str, AngleStatistics] = {}
+    for q, g in spec.sens.items():
+        unit, scale = display_scale(study.design, q)  # type: ignore[arg-type]
+        n = g.shape[0]
+        counts = totals.hist[q].reshape(n, lin.ANGLE_BINS)
+        qs = lin.hist_quantiles(counts, spec.lower[q], spec.width[q], PROBS)
+        mean = g @ xmean
+        std = np.sqrt(np.maximum(((g @ cov) * g).sum(axis=1), 0.0))
+        mu, sd = max_stats[q]
+        ma = _summary_from_hist(totals.max_hist[q], spec.max_top[q], mu, sd)
+        stats[q] = AngleStatistics(
+            q,
+            unit,
+            mean * scale,
+            std * scale,
+            qs[0] * scale,
+            qs[1] * scale,
+            qs[2] * scale,
+            float(np.max(spec.width[q]) * scale),
+            Summary(*(v * scale for v in (ma.mean, ma.std, ma.q00135, ma.q50, ma.q99865))),
+        )
+    lift = stats["lift"]
+    y = None
+    if spec.spec is not None:
+        y = YieldEstimate.of(
+            totals.passed_spec, n_tot, f"max |dS| <= {spec.spec * study.scale:g} {study.unit}"
+        )
+    elif band is not None:
+        y = YieldEstimate.of(totals.passed_band, n_tot, "lower <= dS <= upper at every angle")
+    shares = variance_shares(study)
+    i = worst_angle(lift.q00135 / study.scale, lift.q99865 / study.scale, band)
+    contributions = tuple(
+        sorted(
+            (Contribution(lab, float(v[i])) for lab, v in shares.items()),
+            key=lambda c: -c.variance_share,
+        )
+    )
+    label_q = []
+    for j in range(len(study.plan.labels)):
+        top = float(spec.label_top[j])
+        qq = lin.hist_quantiles(
+            totals.label_hist[j][None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), (0.9973,)
+        )
+        label_q.append(float(qq[0][0]) * study.scale)
+    combined = float(np.max(np.maximum(np.abs(lift.q00135), np.abs(lift.q99865))))
+    return MonteCarloResult(
+        design_name=study.design.name,
+        samples=n_tot,
+        seed=spec.seed,
+        mode="linear",
+        theta_deg=np.degrees(study.theta_rad),
+        statistics=stats,
+        yield_estimate=y,
+        shares=shares,
+        worst_angle_deg=float(np.degrees(study.theta_rad[i])),
+        contributions=contributions,
+        comparison=comparison_rows(study, label_q, combined),
+        sources=describe_sources(study),
+        notes=(
+            "linear mode: closed-form sensitivities (THEORY §3); mean and σ exact for the"
+            " samples, quantiles from per-angle histograms (resolution"
+            f" {lift.resolution:.3g} {lift.unit})",
+            "zone convention: each source varies in ±Δ of its resolved tolerance (full IT"
+            " value), normal σ = Δ/(3 Cp) truncated at the zone",
+        ),
+    )
+
+
+def describe_sources(study: Study) -> dict[str, str]:
+    """Each label's distribution in words (display units of the source)."""
+    out = {}
+    for j, d in enumerate(study.plan.distributions):
+        lab = study.plan.labels[j]
+        if study.plan.units[j] == "mm":
+            out[lab] = d.describe(1e3, "µm")
+        else:
+            out[lab] = d.describe(180.0 / math.pi, "°")
+    if study.plan.process is not None:
+        out[study.plan.labels[-1]] = study.plan.process.describe()
+    return out
+
+
+def sample_matrix(plan: SamplingPlan, seed: int, samples: int) -> FloatArray:
+    """All sample rows of a (small) study, chunk by chunk. [mm or rad]"""
+    rows = []
+    for c in range(-(-samples // CHUNK)):
+        size = min(CHUNK, samples - c * CHUNK)
+        rows.append(plan.sample(chunk_uniforms(seed, c, size, plan.uniforms)))
+    return np.vstack(rows)
