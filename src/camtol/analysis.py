@@ -24,6 +24,7 @@ from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
+from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
 
 __all__ = ["Analysis", "Curves", "Quantity", "analyse", "max_radius_mm"]
 
@@ -70,6 +71,12 @@ class Analysis:
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
     notes : tuple of str
         What the user must know to trust the numbers (e.g. a lift table's precision).
+    geometry : tuple of CamGeometry
+        Geometry figures of each cam of :meth:`CamDesign.cams` (one, or A and B): signed
+        pressure-angle range against the limit, smallest convex and concave radii.
+    motion : MotionPeaks or None
+        Peak V, A, J of the nominal follower motion (per radian; SI at the design speed
+        with :meth:`MotionPeaks.at_speed`).
     """
 
     design: CamDesign
@@ -84,6 +91,13 @@ class Analysis:
     travel: float
     accuracy: iso286.GradeBracket
     notes: tuple[str, ...] = ()
+    geometry: tuple[CamGeometry, ...] = ()
+    motion: MotionPeaks | None = None
+
+    @property
+    def pressure_angle_exceeds_limit(self) -> bool:
+        """True when any cam's max |φ| is beyond the design's pressure-angle limit."""
+        return any(g.exceeds_pressure_angle_limit for g in self.geometry)
 
     @property
     def error_unit(self) -> str:
@@ -378,7 +392,27 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         travel,
         accuracy,
         _notes(design, kin),
+        _geometry(design, kin),
+        motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
     )
+
+
+def _geometry(design: CamDesign, kin: Kinematics) -> tuple[CamGeometry, ...]:
+    """Geometry figures of every cam of the design on the analysis grid (THEORY §2)."""
+    out = []
+    for i, cam in enumerate(design.cams()):
+        k = kin
+        if i > 0:  # the analysis kinematics are the first cam's (A of a conjugate pair)
+            k = kinematics(cam.design, kin.theta_rad, left_limit=kin.left_limit, check=False)
+        out.append(
+            cam_geometry(
+                cam.label,
+                cam.mechanism,
+                k,
+                pressure_angle_limit_deg=design.pressure_angle_limit_deg,
+            )
+        )
+    return tuple(out)
 
 
 def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:

@@ -29,6 +29,8 @@ __all__ = [
     "analyse_with_hint",
     "load_input",
     "run_guarded",
+    "echo_json",
+    "strict_status",
     "EXIT_OK",
     "EXIT_FAIL",
     "EXIT_USAGE",
@@ -153,6 +155,23 @@ def design_options(f: F) -> F:
     return f
 
 
+def strict_option(f: F) -> F:
+    """Add --strict: a pressure angle beyond the design limit makes the exit status 1."""
+    return click.option(
+        "--strict",
+        is_flag=True,
+        help="Exit with status 1 when a pressure angle exceeds the design limit"
+        " (operation.pressure_angle_limit_deg).",
+    )(f)
+
+
+def verbose_option(f: F) -> F:
+    """Add --verbose: also print the conventions in force."""
+    return click.option(
+        "--verbose", "-v", is_flag=True, help="Also print the IT-grade conventions in force."
+    )(f)
+
+
 class LazyGroup(click.Group):
     """A click group whose commands from other modules are imported only when run.
 
@@ -239,6 +258,8 @@ def cli() -> None:
     " (default: where the worst-case error is largest).",
 )
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success (exit status only).")
+@strict_option
+@verbose_option
 def analyze(
     design: str | None,
     example: str | None,
@@ -248,11 +269,16 @@ def analyze(
     plot: str | None,
     plot_angle_deg: float | None,
     quiet: bool,
+    strict: bool,
+    verbose: bool,
 ) -> None:
     """Analyse a design: profile, pressure and shift angles, and the follower's errors.
 
-    Reports the extremes over 0-360° of every quantity, the error of each toleranced
-    source, the worst case and RMS, and the accuracy grade of the output (THEORY §3).
+    Reports the nominal motion's peak V, A, J, each cam's pressure-angle range and
+    smallest convex and concave radii, the extremes over 0-360° of every quantity, the
+    error of each toleranced source, the worst case and RMS, and the accuracy grade of
+    the output (THEORY §3). A pressure angle beyond the design limit is flagged; with
+    --strict it makes the exit status 1.
     """
 
     def body() -> int:
@@ -277,15 +303,53 @@ def analyze(
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
             written.append(plot)
         if as_json:
-            click.echo(json.dumps(tables.analysis_json(a), indent=2, default=_json_default))
+            echo_json(tables.analysis_json(a))
         elif not quiet:
-            tables.print_analysis(a)
+            tables.print_analysis(a, verbose=verbose)
         if not quiet:
             for path in written:  # on stderr with --json, so stdout stays one JSON document
                 click.echo(f"wrote {path}", err=as_json)
-        return EXIT_OK
+        return strict_status(a, strict)
 
     raise _Exit(run_guarded(body))
+
+
+def echo_json(data: Any) -> None:
+    """Print a JSON document on stdout: strict JSON (no NaN), floats to 10 digits.
+
+    Parameters
+    ----------
+    data : Any
+        JSON-ready data; infinities and NaN become null.
+    """
+    from camtol.report.units import json_ready
+
+    click.echo(json.dumps(json_ready(data), indent=2, allow_nan=False, ensure_ascii=False))
+
+
+def strict_status(analysis: Any, strict: bool) -> int:
+    """Exit status of a design command: 1 with ``--strict`` past the pressure-angle limit.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        The design's analysis.
+    strict : bool
+        Whether ``--strict`` was given.
+
+    Returns
+    -------
+    int
+        :data:`EXIT_FAIL` or :data:`EXIT_OK`.
+    """
+    if strict and analysis.pressure_angle_exceeds_limit:
+        click.echo(
+            "camtol: error: the pressure angle exceeds the design limit"
+            f" {analysis.design.pressure_angle_limit_deg:g}° (--strict)",
+            err=True,
+        )
+        return EXIT_FAIL
+    return EXIT_OK
 
 
 def _json_default(o: Any) -> Any:
