@@ -19,7 +19,14 @@ sys.path.insert(0, str(HERE))
 
 from common import Figure  # noqa: E402
 
-BENCHMARKS = ["bench_analyze", "bench_cli", "bench_contact", "bench_manufacturing", "bench_record"]
+BENCHMARKS = [
+    "bench_analyze",
+    "bench_cli",
+    "bench_contact",
+    "bench_inspection",
+    "bench_manufacturing",
+    "bench_record",
+]
 
 if __name__ == "__main__":
     figures: list[Figure] = []
