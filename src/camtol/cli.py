@@ -303,7 +303,7 @@ def analyze(
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
             written.append(plot)
         if as_json:
-            echo_json(tables.analysis_json(a))
+            echo_json(tables.analysis_json(a), command="analyze")
         elif not quiet:
             tables.print_analysis(a, verbose=verbose)
         if not quiet:
@@ -314,17 +314,27 @@ def analyze(
     raise _Exit(run_guarded(body))
 
 
-def echo_json(data: Any) -> None:
-    """Print a JSON document on stdout: strict JSON (no NaN), floats to 10 digits.
+def echo_json(data: Any, *, command: str | None = None) -> None:
+    """Print a command's JSON document on stdout: strict JSON, floats to 10 digits.
 
     Parameters
     ----------
-    data : Any
-        JSON-ready data; infinities and NaN become null.
+    data : dict
+        JSON-ready data; infinities and NaN become null, numpy scalars numbers.
+    command : str, optional
+        The command's name: the document then starts with ``schema_version``,
+        ``command`` and ``camtol_version`` (the envelope of every ``--json`` output,
+        described by ``camtol/data/schemas/<command>.schema.json``).
     """
     from camtol.report.units import json_ready
 
-    click.echo(json.dumps(json_ready(data), indent=2, allow_nan=False, ensure_ascii=False))
+    if command is not None and isinstance(data, dict):
+        from camtol.report.tables import SCHEMA_VERSION
+
+        head = {"schema_version": SCHEMA_VERSION, "command": command, "camtol_version": __version__}
+        data = {**head, **{k: v for k, v in data.items() if k not in head}}
+    text = json.dumps(json_ready(data), indent=2, allow_nan=False, ensure_ascii=False)
+    click.echo(text)
 
 
 def strict_status(analysis: Any, strict: bool) -> int:

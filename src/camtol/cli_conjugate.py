@@ -8,7 +8,6 @@ bad input.
 from __future__ import annotations
 
 import dataclasses
-import json
 from pathlib import Path
 
 import click
@@ -17,9 +16,9 @@ from camtol.cli import (
     EXIT_FAIL,
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
     load_input,
     run_guarded,
@@ -231,7 +230,7 @@ def conjugate(
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             if comparison is not None:
                 data["cmm_comparison"] = comparison.summary()
-            click.echo(json.dumps(data, indent=2, default=_json_default))
+            echo_json(data, command="conjugate")
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
             if comparison is not None:

@@ -6,7 +6,6 @@ its profile tolerance, 0 when it passes, 2 on bad input (nothing written then).
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -17,9 +16,9 @@ from camtol.cli import (
     EXIT_FAIL,
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
     load_input,
     run_guarded,
@@ -322,7 +321,7 @@ def inspect(
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
-            click.echo(json.dumps(data, indent=2, default=_json_default))
+            echo_json(data, command="inspect")
         elif not quiet:
             for line in rep.inspection_text(data):
                 click.echo(line)

@@ -8,7 +8,6 @@ input (one line on stderr, nothing written). Output files go through
 from __future__ import annotations
 
 import io
-import json
 import math
 from typing import Any
 
@@ -17,9 +16,9 @@ import click
 from camtol.cli import (
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
     load_input,
     run_guarded,
@@ -135,7 +134,7 @@ def precision(
             accel_budget_pct=accel_budget_pct,
         )
         if as_json:
-            click.echo(json.dumps(_precision_json(st), indent=2, default=_json_default))
+            echo_json(_precision_json(st), command="precision")
             return EXIT_OK
         u = st.lift_unit
         echo = click.echo
@@ -326,7 +325,7 @@ def cut(
                 doc["lift_tolerance"] = lift_tol
                 doc["accel_budget_pct"] = accel_budget_pct
                 doc["coarsest_cut_step_deg"] = coarsest
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc, command="cut")
             return EXIT_OK
         u = results[0].lift_error_unit
         lu = "°" if oscillating else "mm"
@@ -474,7 +473,7 @@ def derive(
             "max_abs_A": float(abs(res.acceleration).max()),
         }
         if as_json:
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc, command="derive")
             return EXIT_OK
         nu = "µm" if unit == "mm" else "0.001°"
         how = {"gcv": "generalised cross-validation", "noise": "the given noise level",

@@ -6,7 +6,6 @@ bad input or a design that cannot be made; nothing is written unless everything 
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -15,9 +14,9 @@ import click
 from camtol.cli import (
     EXIT_OK,
     _Exit,
-    _json_default,
     check_output_path,
     design_options,
+    echo_json,
     fail,
     load_input,
     run_guarded,
@@ -128,7 +127,7 @@ def profile(
                     for c in pts.curves
                 ],
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc, command="profile")
         elif not quiet:
             for c in pts.curves:
                 click.echo(
@@ -193,7 +192,7 @@ def _write_gcode(
             "blocks": prog.blocks,
             "max_fit_deviation_um": prog.max_fit_deviation_mm * 1e3,
         }
-        click.echo(json.dumps(doc, indent=2, default=_json_default))
+        echo_json(doc, command="profile")
     elif not quiet:
         click.echo(
             f"G-code ({prog.mode}): {prog.blocks} blocks, cutter-path offset"
@@ -251,7 +250,7 @@ def report(
                 "max_worst_case": {"value": worst.value, "unit": a.error_unit},
                 "accuracy": a.accuracy.describe(),
             }
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            echo_json(doc, command="report")
         elif not quiet:
             click.echo(f"wrote {output} ({a.design.name}: {a.accuracy.describe()})")
         return EXIT_OK

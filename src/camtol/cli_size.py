@@ -6,13 +6,12 @@ found, 2 on bad input or when no base radius can meet the requirements.
 
 from __future__ import annotations
 
-import json
 import math
 from typing import Any
 
 import click
 
-from camtol.cli import EXIT_OK, _Exit, design_options, load_input, run_guarded
+from camtol.cli import EXIT_OK, _Exit, design_options, echo_json, load_input, run_guarded
 
 __all__ = ["size", "sizing_hint"]
 
@@ -154,7 +153,7 @@ def size(
             step_deg=step_deg,
         )
         if as_json:
-            click.echo(json.dumps(sizing_json(r), indent=2))
+            echo_json(sizing_json(r), command="size")
             return EXIT_OK
         click.echo(f"design             {d.name}")
         click.echo(

@@ -6,16 +6,14 @@ passes, 1 when one fails, 2 on bad input.
 
 from __future__ import annotations
 
-import json
-
 import click
 
 from camtol.cli import (
     EXIT_FAIL,
     EXIT_OK,
     _Exit,
-    _json_default,
     design_options,
+    echo_json,
     load_input,
     run_guarded,
 )
@@ -121,7 +119,7 @@ def verify(
         check_step(step_deg, name="--step", min_points=4, max_points=360_000)
         result = run(load_input(design, example), step_deg=step_deg, polyline=not no_polyline)
         if as_json:
-            click.echo(json.dumps(result.to_dict(), indent=2, default=_json_default))
+            echo_json(result.to_dict(), command="verify")
         elif not quiet:
             _print_summary(result)
         return EXIT_OK if result.ok else EXIT_FAIL

@@ -146,7 +146,8 @@ def test_json_numbers_are_rounded_and_structured(capsys: pytest.CaptureFixture[s
     data = json.loads(text)
     assert data["schema_version"] and data["command"] == "analyze"
     assert data["accuracy"]["lower_grade"] == "IT7" and data["accuracy"]["upper_um"] == 33
-    assert all(isinstance(t.get("deviation_um", t.get("deviation_deg")), float)
-               for t in data["tolerances"])
+    assert all(
+        isinstance(t.get("deviation_um", t.get("deviation_deg")), float) for t in data["tolerances"]
+    )
     assert not re.search(r"\d\.\d{11,}", text)  # 10 significant digits at most
-    assert "µm\"" not in text.split('"tolerances"')[1].split("origin")[0]
+    assert 'µm"' not in text.split('"tolerances"')[1].split("origin")[0]

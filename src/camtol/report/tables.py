@@ -112,9 +112,13 @@ def _motion_json(a: Analysis) -> dict[str, Any]:
     assert a.motion is not None
     _, vu, au, ju = motion_units(a)
     speed = a.motion.at_speed()
-    peaks = speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    peaks = (
+        speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    )
     out: dict[str, Any] = {"speed_rpm": a.design.speed_rpm}
-    for name, unit, p in zip(("velocity", "acceleration", "jerk"), (vu, au, ju), peaks):
+    for name, unit, p in zip(
+        ("velocity", "acceleration", "jerk"), (vu, au, ju), peaks, strict=True
+    ):
         suffix = file_unit(unit)
         out[f"{name}_max_{suffix}"] = p.max
         out[f"{name}_max_at_deg"] = p.max_at_deg
@@ -358,7 +362,10 @@ def _geometry_rows(g: CamGeometry) -> list[tuple[str, str]]:
     if g.pressure_angle_limit_deg is not None:
         flag = "EXCEEDS" if g.exceeds_pressure_angle_limit else "within"
         pa += f" ({flag} the {g.pressure_angle_limit_deg:g}° limit)"
-    rows = [(f"{cam}max radial dimension", f"{fmt(g.max_radius_mm)} mm"), (f"{cam}pressure angle", pa)]
+    rows = [
+        (f"{cam}max radial dimension", f"{fmt(g.max_radius_mm)} mm"),
+        (f"{cam}pressure angle", pa),
+    ]
     if math.isfinite(g.min_convex_radius_mm):
         convex = f"{fmt(g.min_convex_radius_mm)} mm at {_at(g.min_convex_radius_at_deg)}"
     else:
@@ -379,16 +386,31 @@ def _motion_rows(a: Analysis) -> list[tuple[str, str]]:
         return []
     _, vu, au, ju = motion_units(a)
     speed = a.motion.at_speed()
-    peaks = speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    peaks = (
+        speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    )
     where = f"at {a.design.speed_rpm:g} rpm" if speed is not None else "per radian of cam angle"
     rows = []
-    for name, unit, pk in zip(("velocity", "acceleration", "jerk"), (vu, au, ju), peaks):
+    for name, unit, pk in zip(
+        ("velocity", "acceleration", "jerk"), (vu, au, ju), peaks, strict=True
+    ):
         top = pk.max if abs(pk.max) >= abs(pk.min) else pk.min
         at = pk.max_at_deg if top == pk.max else pk.min_at_deg
         text = f"{fmt(abs(top))} {pretty_unit(unit)} at {_at(at)}"
-        if name == "acceleration" and speed is not None and a.design.mechanism.output == "translating":
+        if (
+            name == "acceleration"
+            and speed is not None
+            and a.design.mechanism.output == "translating"
+        ):
             text += f" ({fmt(pk.abs_max / STANDARD_GRAVITY, 4)} g)"
-        rows.append((f"peak |{name[0].upper()}| {where}" if name == "velocity" else f"peak |{name[0].upper()}|", text))
+        rows.append(
+            (
+                f"peak |{name[0].upper()}| {where}"
+                if name == "velocity"
+                else f"peak |{name[0].upper()}|",
+                text,
+            )
+        )
     return rows
 
 

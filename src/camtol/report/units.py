@@ -159,6 +159,8 @@ def json_ready(obj: Any) -> Any:
         return [json_ready(v) for v in obj]
     if isinstance(obj, bool) or obj is None or isinstance(obj, str):
         return obj
+    if hasattr(obj, "tolist") and getattr(obj, "ndim", 0) > 0:  # numpy array
+        return json_ready(obj.tolist())
     if hasattr(obj, "item") and not isinstance(obj, (int, float)):  # numpy scalar
         obj = obj.item()
     if isinstance(obj, bool):
