@@ -9,6 +9,7 @@ design gives a cam speed (``um_per_s``).
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import sys
@@ -149,6 +150,35 @@ def _geometry_json(g: CamGeometry) -> dict[str, Any]:
     }
 
 
+def mechanism_parameters(mech: Any) -> dict[str, Any]:
+    """The follower's dimensions as snake_case keys with units: ``base_radius_mm`` …
+
+    Angles held in radians are given in degrees (``arm_angle_rad`` -> ``arm_angle_deg``).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The design's mechanism (a dataclass of numbers).
+
+    Returns
+    -------
+    dict
+        Parameter name -> number (or null when not set).
+    """
+    out: dict[str, Any] = {}
+    if not dataclasses.is_dataclass(mech):
+        return out
+    for f in dataclasses.fields(mech):
+        v = getattr(mech, f.name)
+        if v is not None and not isinstance(v, (int, float)):
+            continue
+        if f.name.endswith("_rad"):
+            out[f.name[:-4] + "_deg"] = None if v is None else math.degrees(v)
+        else:
+            out[f.name] = v
+    return out
+
+
 def accuracy_json(b: GradeBracket) -> dict[str, Any]:
     """Structured accuracy grade: the bracketing IT grades and their values.
 
@@ -197,7 +227,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
         "design": {
             "name": a.design.name,
             "follower": mech.kind,
-            "parameters": dict(mech.summary()),
+            "parameters": mechanism_parameters(mech),
             "motion": a.design.describe_motion(),
             "speed_rpm": a.design.speed_rpm,
         },
