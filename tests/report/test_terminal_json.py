@@ -151,3 +151,18 @@ def test_json_numbers_are_rounded_and_structured(capsys: pytest.CaptureFixture[s
     )
     assert not re.search(r"\d\.\d{11,}", text)  # 10 significant digits at most
     assert 'µm"' not in text.split('"tolerances"')[1].split("origin")[0]
+
+
+def test_conjugate_table_has_labels_and_units(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["conjugate", "-e", "cw11-experiment", "--step", "0.5", "--df-mea", "22um"])
+    assert code == 1  # the masters' Δf_mea = 22 µm everywhere fails (a documented example)
+    out = capsys.readouterr().out
+    table = out[out.index("Extremes") :]
+    for raw in ("df_A_upper", "dr_B_est", "df_eta", "df_r "):
+        assert raw not in table
+    assert "cam A band: upper Δf" in table and "Δr_B,est (cam B)" in table
+    header = next(line for line in table.splitlines() if "quantity" in line)
+    assert "unit" in header.split()
+    rows = [line for line in table.splitlines() if line.strip().startswith(("Δ", "cam"))]
+    assert rows and all(" µm " in line for line in rows if "band" in line or "Δr" in line)
+    assert max(len(line) for line in out.splitlines()) <= 80

@@ -419,7 +419,7 @@ def _motion_rows(a: Analysis) -> list[tuple[str, str]]:
     peaks = (
         speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
     )
-    where = f"at {a.design.speed_rpm:g} rpm" if speed is not None else "per radian of cam angle"
+    where = f"at {a.design.speed_rpm:g} rpm" if speed is not None else "(per radian)"
     rows = []
     for name, unit, pk in zip(
         ("velocity", "acceleration", "jerk"), (vu, au, ju), peaks, strict=True
