@@ -151,7 +151,7 @@ def _geometry_json(g: CamGeometry) -> dict[str, Any]:
 
 
 def mechanism_parameters(mech: Any) -> dict[str, Any]:
-    """The follower's dimensions as snake_case keys with units: ``base_radius_mm`` …
+    """Return the follower's dimensions as snake_case keys with units (``base_radius_mm``).
 
     Angles held in radians are given in degrees (``arm_angle_rad`` -> ``arm_angle_deg``).
 
@@ -506,8 +506,8 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
         ("at θ", "left", False),
     ):
         table.add_column(col, justify=just, no_wrap=not wrap, overflow="fold")  # type: ignore[arg-type]
-    for row in _rows(a):
-        table.add_row(*row)
+    for cells in _rows(a):
+        table.add_row(*cells)
     con.print(table, highlight=False)
     con.print(
         f"Output accuracy: max |ΔS worst| = {_fmt(a.extremes['dS_worst'][0].value)}"
