@@ -166,3 +166,17 @@ def test_conjugate_table_has_labels_and_units(capsys: pytest.CaptureFixture[str]
     rows = [line for line in table.splitlines() if line.strip().startswith(("Δ", "cam"))]
     assert rows and all(" µm " in line for line in rows if "band" in line or "Δr" in line)
     assert max(len(line) for line in out.splitlines()) <= 80
+
+
+def test_display_unit_rule() -> None:
+    from camtol.report.units import file_unit, fmt, json_number, magnitude_unit, pretty_unit
+
+    assert magnitude_unit("um/s2", 1_468_273.0) == ("mm/s2", 1e-3)
+    assert magnitude_unit("um/s2", 2.5e7) == ("m/s2", 1e-6)
+    assert magnitude_unit("um", 9999.0) == ("um", 1.0)
+    assert magnitude_unit("deg", 1e9) == ("deg", 1.0)
+    assert pretty_unit("um/rad2") == "µm/rad²" and pretty_unit("m/s3") == "m/s³"
+    assert pretty_unit("deg") == "°" and file_unit("µm/rad²") == "um_per_rad2"
+    assert fmt(14.999999999999998) == "15.000" and fmt(1468273.2) == "1468273"
+    assert json_number(14.999999999999998) == 15.0
+    assert json_number(float("inf")) is None and json_number(float("nan")) is None
