@@ -180,3 +180,10 @@ def test_display_unit_rule() -> None:
     assert fmt(14.999999999999998) == "15.000" and fmt(1468273.2) == "1468273"
     assert json_number(14.999999999999998) == 15.0
     assert json_number(float("inf")) is None and json_number(float("nan")) is None
+
+
+def test_verify_fits_80_columns_and_spells_units(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["verify", "-e", "cw06-translating", "--step", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert max(len(line) for line in out.splitlines()) <= 80
+    assert "[um]" not in out and "rad2" not in out and "(µm)" in out
