@@ -241,7 +241,9 @@ def report(
 
         check_output_path(output, "--output", [".html", ".htm"])
         a = analyse(load_input(design, example), step_deg=step_deg)
-        write_report(a, output)
+        from camtol.study import study
+
+        write_report(study(a), output)
         worst = a.extremes["dS_worst"][0]
         if as_json:
             doc = {

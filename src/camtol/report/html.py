@@ -17,14 +17,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.analysis import Analysis, analyse
-from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.design import IT_CONVENTIONS
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from camtol.analysis import Analysis
     from camtol.inspection.fixture import FixtureInspection
     from camtol.inspection.spec import FixtureSpec
+    from camtol.study import Study
 
 __all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
 
@@ -123,15 +124,6 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _inspection(design: CamDesign) -> tuple[FixtureInspection, FixtureSpec] | None:
-    spec = design.inspection
-    if design.mechanism.kind != "conjugate" or spec is None:
-        return None
-    from camtol.inspection.fixture import inspect_conjugate
-
-    return inspect_conjugate(design, spec), spec
-
-
 def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None) -> str:
     d = a.design
     k = a.kinematics
@@ -145,7 +137,7 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
         f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
         ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
     ]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         from camtol.report.conjugate import conjugate_analysis_json
 
         b = conjugate_analysis_json(a)
@@ -184,13 +176,14 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(design_or_analysis: CamDesign | Analysis) -> str:
+def report_html(study: Study) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`; the report only
+        formats it.
 
     Returns
     -------
@@ -200,13 +193,13 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
     from camtol import __version__
     from camtol.report.plots import analysis_figure, fixture_figure
 
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
+    a = study.analysis
     d = a.design
-    fixture = _inspection(d)
+    fixture = (
+        (study.fixture, study.fixture_spec)
+        if study.fixture is not None and study.fixture_spec is not None
+        else None
+    )
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -272,7 +265,7 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
     parts.append("<h2>Conventions and assumptions</h2><ul>")
     parts += [f"<li>{_e(c)}</li>" for c in CONVENTIONS]
     parts += [f"<li>IT grades: {_e(c)}</li>" for c in IT_CONVENTIONS]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         parts.append(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
@@ -290,7 +283,7 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
-            analysis_figure(a),
+            analysis_figure(a, study.drawing),
             "The cam and follower at the angle of the largest worst-case error; shift and"
             " pressure angles; radial-error factor; displacement, velocity and acceleration"
             " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
@@ -323,16 +316,13 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
     return "\n".join(parts) + "\n"
 
 
-def write_report(
-    design_or_analysis: CamDesign | Analysis,
-    path: str | Path,
-) -> Analysis:
+def write_report(study: Study, path: str | Path) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
 
@@ -343,10 +333,8 @@ def write_report(
 
     Raises
     ------
-    camtol.report.export.ExportError
+    camtol.exceptions.ExportError
         Wrong suffix or missing directory; nothing is written.
-    GeometryError, UndercutError, DesignError
-        The design cannot be analysed; nothing is written.
 
     Notes
     -----
@@ -357,7 +345,7 @@ def write_report(
     :func:`~camtol.report.plots.fixture_figure`). The file is written to a temporary name
     and renamed into place.
     """
-    from camtol.report.export import ExportError
+    from camtol.exceptions import ExportError
     from camtol.report.files import atomic_write
 
     p = Path(path)
@@ -367,10 +355,5 @@ def write_report(
         )
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
-    atomic_write(p, report_html(a))
-    return a
+    atomic_write(p, report_html(study))
+    return study.analysis

@@ -311,7 +311,7 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
     for prefix, unit in (("dS", err_unit), ("dV", vunit), ("dA", aunit)):
         for n in names:
             cols[f"{prefix}_{n}_{_file_unit(unit)}"] = a.curves[f"{prefix}_{n}"]
-    if a.design.mechanism.kind == "conjugate":  # both cams' profiles and angles
+    if len(a.design.cams()) > 1:  # both cams' profiles and angles
         from camtol.report.conjugate import conjugate_profile_columns
 
         cols = conjugate_profile_columns(a, cols)
