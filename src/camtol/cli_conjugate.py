@@ -89,6 +89,12 @@ __all__ = ["conjugate"]
 )
 @click.option("--cmm-b", metavar="SCAN.csv", help="CMM scan of cam B (with --cmm-a).")
 @click.option(
+    "--cmm-plot",
+    metavar="FILE.png",
+    help="With --cmm-a/--cmm-b: write Δf predicted from the CMM profiles against the record"
+    " and their differences (PNG/SVG/PDF).",
+)
+@click.option(
     "--cmm-stylus-radius-mm",
     "cmm_stylus_mm",
     type=float,
@@ -118,6 +124,7 @@ def conjugate(
     plot: str | None,
     cmm_a: str | None,
     cmm_b: str | None,
+    cmm_plot: str | None,
     cmm_stylus_mm: float,
     cmm_datum: str,
     quiet: bool,
@@ -151,6 +158,9 @@ def conjugate(
         check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        check_output_path(cmm_plot, "--cmm-plot", [".png", ".svg", ".pdf"])
+        if cmm_plot and cmm_a is None:
+            fail("--cmm-plot needs the CMM scans: give --cmm-a and --cmm-b")
         from camtol.inspection.error_functions import ErrorFunction, parse_error_function
         from camtol.inspection.fixture import inspect_conjugate
         from camtol.mechanisms.conjugate import ConjugatePair
@@ -226,6 +236,14 @@ def conjugate(
             )
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
+        if cmm_plot and comparison is not None:
+            from camtol.report.files import atomic_output
+            from camtol.report.inspection_plots import cmm_fixture_figure
+
+            with atomic_output(cmm_plot) as tmp:
+                cmm_fixture_figure(comparison).savefig(
+                    tmp, format=Path(cmm_plot).suffix.lstrip(".").lower()
+                )
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             if comparison is not None:
