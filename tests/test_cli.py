@@ -15,8 +15,8 @@ def test_analyze_example_prints_extremes(capsys: pytest.CaptureFixture[str]) -> 
     assert main(["analyze", "--example", "cw06-translating"]) == 0
     out = capsys.readouterr().out
     assert "25.567" in out and "71.50°" in out
-    assert "between IT7 (21 µm) and IT8 (33 µm)" in out
-    assert "120.00-190.00°, 290.00-360.00°" in out
+    assert "between IT7 (21 µm) and IT8 (33 µm)" in " ".join(out.split())  # 80 columns
+    assert "120.00-190.00°" in out and "290.00-360.00°" in out  # one range a line
 
 
 def test_analyze_json(capsys: pytest.CaptureFixture[str]) -> None:
@@ -25,7 +25,8 @@ def test_analyze_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert data["max_radius_mm"] == pytest.approx(58.934, abs=1e-3)
     worst = next(e for e in data["extremes"] if e["quantity"] == "dS_worst")
     assert worst["unit"] == "deg"
-    assert data["accuracy"].startswith("between IT8")
+    assert data["accuracy"]["text"].startswith("between IT8")
+    assert data["accuracy"]["lower_grade"] == "IT8"
     assert any("not defined by ISO 286" in c for c in data["conventions"])
 
 

@@ -25,6 +25,7 @@ from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
+from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
 
 __all__ = [
     "Analysis",
@@ -82,6 +83,12 @@ class Analysis:
     other_cams : tuple of (str, Kinematics)
         The kinematics of the design's further cams (cam B of a conjugate pair) on the
         same grid, by label; see :meth:`cam_kinematics`.
+    geometry : tuple of CamGeometry
+        Geometry figures of each cam of :meth:`CamDesign.cams` (one, or A and B): signed
+        pressure-angle range against the limit, smallest convex and concave radii.
+    motion : MotionPeaks or None
+        Peak V, A, J of the nominal follower motion (per radian; SI at the design speed
+        with :meth:`MotionPeaks.at_speed`).
     """
 
     design: CamDesign
@@ -123,6 +130,14 @@ class Analysis:
         if label in ("", self.design.cams()[0].label):
             return self.kinematics
         raise KeyError(f"cam {label!r} is not a cam of design {self.design.name!r}")
+
+    geometry: tuple[CamGeometry, ...] = ()
+    motion: MotionPeaks | None = None
+
+    @property
+    def pressure_angle_exceeds_limit(self) -> bool:
+        """True when any cam's max |φ| is beyond the design's pressure-angle limit."""
+        return any(g.exceeds_pressure_angle_limit for g in self.geometry)
 
     @property
     def error_unit(self) -> str:
@@ -460,6 +475,24 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         accuracy,
         _notes(design, kin),
         others,
+        _geometry(design, kin, others),
+        motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
+    )
+
+
+def _geometry(
+    design: CamDesign, kin: Kinematics, other_cams: tuple[tuple[str, Kinematics], ...]
+) -> tuple[CamGeometry, ...]:
+    """Geometry figures of every cam of the design on the analysis grid (THEORY §2)."""
+    kins = dict(other_cams)
+    return tuple(
+        cam_geometry(
+            cam.label,
+            cam.mechanism,
+            kin if i == 0 else kins[cam.label],  # the analysis kinematics: the first cam's
+            pressure_angle_limit_deg=design.pressure_angle_limit_deg,
+        )
+        for i, cam in enumerate(design.cams())
     )
 
 

@@ -9,6 +9,7 @@ succeeded, and atomically (no half-written output).
 from __future__ import annotations
 
 import importlib
+import json
 import math
 import os
 import sys
@@ -31,6 +32,8 @@ __all__ = [
     "analyse_with_hint",
     "load_input",
     "run_guarded",
+    "echo_json",
+    "strict_status",
     "EXIT_OK",
     "EXIT_FAIL",
     "EXIT_USAGE",
@@ -176,19 +179,6 @@ def guard_paths(inputs: Mapping[str, str | None], outputs: Mapping[str, str | No
                 )
 
 
-def echo_json(doc: Any) -> None:
-    """Print a document as strict JSON (a NaN or infinity is an error, never printed).
-
-    Parameters
-    ----------
-    doc : object
-        Nested dicts, lists and scalars.
-    """
-    from camtol.report.finite import json_text
-
-    click.echo(json_text(doc))
-
-
 def run_guarded(fn: Callable[[], int | None]) -> int:
     """Run a command body; camtol errors become one stderr line and exit status 2.
 
@@ -301,6 +291,23 @@ def design_options(f: F) -> F:
     return f
 
 
+def strict_option(f: F) -> F:
+    """Add --strict: a pressure angle beyond the design limit makes the exit status 1."""
+    return click.option(
+        "--strict",
+        is_flag=True,
+        help="Exit with status 1 when a pressure angle exceeds the design limit"
+        " (operation.pressure_angle_limit_deg).",
+    )(f)
+
+
+def verbose_option(f: F) -> F:
+    """Add --verbose: also print the conventions in force."""
+    return click.option(
+        "--verbose", "-v", is_flag=True, help="Also print the IT-grade conventions in force."
+    )(f)
+
+
 #: Other spellings accepted on the command line and not listed in the help (issue 8: one
 #: spelling, ``analyze``, with the British ``analyse`` kept as an alias).
 COMMAND_ALIASES: dict[str, str] = {"analyse": "analyze"}
@@ -393,6 +400,8 @@ def cli() -> None:
     " (default: where the worst-case error is largest).",
 )
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success (exit status only).")
+@strict_option
+@verbose_option
 def analyze(
     design: str | None,
     example: str | None,
@@ -402,11 +411,16 @@ def analyze(
     plot: str | None,
     plot_angle_deg: float | None,
     quiet: bool,
+    strict: bool,
+    verbose: bool,
 ) -> None:
     """Analyse a design: profile, pressure and shift angles, and the follower's errors.
 
-    Reports the extremes over 0-360° of every quantity, the error of each toleranced
-    source, the worst case and RMS, and the accuracy grade of the output (THEORY §3).
+    Reports the nominal motion's peak V, A, J, each cam's pressure-angle range and
+    smallest convex and concave radii, the extremes over 0-360° of every quantity, the
+    error of each toleranced source, the worst case and RMS, and the accuracy grade of
+    the output (THEORY §3). A pressure angle beyond the design limit is flagged; with
+    --strict it makes the exit status 1.
     """
 
     def body() -> int:
@@ -432,15 +446,67 @@ def analyze(
             _save_figure(a, plot, cam_angle_deg=plot_angle_deg)
             written.append(plot)
         if as_json:
-            echo_json(tables.analysis_json(a))
+            echo_json(tables.analysis_json(a), command="analyze")
         elif not quiet:
-            tables.print_analysis(a)
+            tables.print_analysis(a, verbose=verbose)
         if not quiet:
             for path in written:  # on stderr with --json, so stdout stays one JSON document
                 click.echo(f"wrote {path}", err=as_json)
-        return EXIT_OK
+        return strict_status(a, strict)
 
     raise _Exit(run_guarded(body))
+
+
+def echo_json(data: Any, *, command: str | None = None) -> None:
+    """Print a command's JSON document on stdout: strict JSON, floats to 10 digits.
+
+    Parameters
+    ----------
+    data : dict
+        JSON-ready data; infinities and NaN become null, numpy scalars numbers.
+    command : str, optional
+        The command's name: the document then starts with ``schema_version``,
+        ``command`` and ``camtol_version`` (the envelope of every ``--json`` output,
+        described by ``camtol/data/schemas/<command>.schema.json``).
+    """
+    from camtol.report.finite import require_no_nan_json
+    from camtol.report.units import json_ready
+
+    # A NaN is a failed computation: an error naming its key (issue 9), never printed. An
+    # infinity means "none" (e.g. no concave stretch) and is written as null.
+    require_no_nan_json(data)
+    if command is not None and isinstance(data, dict):
+        from camtol.report.tables import SCHEMA_VERSION
+
+        head = {"schema_version": SCHEMA_VERSION, "command": command, "camtol_version": __version__}
+        data = {**head, **{k: v for k, v in data.items() if k not in head}}
+    text = json.dumps(json_ready(data), indent=2, allow_nan=False, ensure_ascii=False)
+    click.echo(text)
+
+
+def strict_status(analysis: Any, strict: bool) -> int:
+    """Exit status of a design command: 1 with ``--strict`` past the pressure-angle limit.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        The design's analysis.
+    strict : bool
+        Whether ``--strict`` was given.
+
+    Returns
+    -------
+    int
+        :data:`EXIT_FAIL` or :data:`EXIT_OK`.
+    """
+    if strict and analysis.pressure_angle_exceeds_limit:
+        click.echo(
+            "camtol: error: the pressure angle exceeds the design limit"
+            f" {analysis.design.pressure_angle_limit_deg:g}° (--strict)",
+            err=True,
+        )
+        return EXIT_FAIL
+    return EXIT_OK
 
 
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
@@ -483,72 +549,9 @@ def examples_show(name: str) -> None:
 
 def _register_subcommands() -> None:
     """Add the commands that live in their own modules; each is imported when it runs."""
-    LAZY_COMMANDS["conjugate"] = (
-        "camtol.cli_conjugate",
-        "conjugate",
-        "Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.",
-    )
-    LAZY_COMMANDS["profile"] = (
-        "camtol.cli_report",
-        "profile",
-        "Export the cam profile for CAD/CAM (CSV, DXF or SVG, chosen by the suffix of -o).",
-    )
-    LAZY_COMMANDS["report"] = (
-        "camtol.cli_report",
-        "report",
-        "Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.",
-    )
-    LAZY_COMMANDS["verify"] = (
-        "camtol.cli_verify",
-        "verify",
-        "Verify a design's analytic results with the exact contact engine (THEORY §5).",
-    )
-    LAZY_COMMANDS["size"] = (
-        "camtol.cli_size",
-        "size",
-        "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
-        " limits.",
-    )
-    LAZY_COMMANDS["precision"] = (
-        "camtol.cli_manufacturing",
-        "precision",
-        "How precise must the lift table be? (THEORY §6.1, §6.2)",
-    )
-    LAZY_COMMANDS["cut"] = (
-        "camtol.cli_manufacturing",
-        "cut",
-        "Simulate cutting at discrete cam angles and follow the cut cam exactly (THEORY §6.3).",
-    )
-    LAZY_COMMANDS["derive"] = (
-        "camtol.cli_manufacturing",
-        "derive",
-        "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
-    )
-    LAZY_COMMANDS["records"] = (
-        "camtol.cli_records",
-        "records",
-        "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
-    )
-    LAZY_COMMANDS["montecarlo"] = (
-        "camtol.cli_tolerancing",
-        "montecarlo",
-        "Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.",
-    )
-    LAZY_COMMANDS["allocate"] = (
-        "camtol.cli_tolerancing",
-        "allocate",
-        "Choose the coarsest (cheapest) IT grade per source that meets a spec.",
-    )
-    LAZY_COMMANDS["inspect"] = (
-        "camtol.cli_inspect",
-        "inspect",
-        "Inspect a machined cam from CMM points: registration, deviations, follower error.",
-    )
-    LAZY_COMMANDS["simulate"] = (
-        "camtol.cli_simulate",
-        "simulate",
-        "Digital twins: simulated measurement files with their truth beside them.",
-    )
+    from camtol.cli_commands import COMMANDS
+
+    LAZY_COMMANDS.update(COMMANDS)
     cli.lazy_commands.update(LAZY_COMMANDS)
 
 

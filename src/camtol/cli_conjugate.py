@@ -282,7 +282,7 @@ def conjugate(
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             if comparison is not None:
                 data["cmm_comparison"] = comparison.summary()
-            echo_json(data)
+            echo_json(data, command="conjugate")
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
             if comparison is not None:

@@ -381,7 +381,7 @@ def inspect(
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
-            echo_json(data)
+            echo_json(data, command="inspect")
         elif not quiet:
             for line in rep.inspection_text(data):
                 click.echo(line)

@@ -135,7 +135,7 @@ def precision(
             accel_budget_pct=accel_budget_pct,
         )
         if as_json:
-            echo_json(_precision_json(st))
+            echo_json(_precision_json(st), command="precision")
             return EXIT_OK
         u = st.lift_unit
         echo = click.echo
@@ -329,7 +329,7 @@ def cut(
                 doc["lift_tolerance"] = lift_tol
                 doc["accel_budget_pct"] = accel_budget_pct
                 doc["coarsest_cut_step_deg"] = coarsest
-            echo_json(doc)
+            echo_json(doc, command="cut")
             return EXIT_OK
         u = results[0].lift_error_unit
         lu = "°" if oscillating else "mm"
@@ -481,7 +481,7 @@ def derive(
             "max_abs_A": float(abs(res.acceleration).max()),
         }
         if as_json:
-            echo_json(doc)
+            echo_json(doc, command="derive")
             return EXIT_OK
         nu = "µm" if unit == "mm" else "0.001°"
         how = {"gcv": "generalised cross-validation", "noise": "the given noise level",

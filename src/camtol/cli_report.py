@@ -129,7 +129,7 @@ def profile(
                     for c in pts.curves
                 ],
             }
-            echo_json(doc)
+            echo_json(doc, command="profile")
         elif not quiet:
             for c in pts.curves:
                 click.echo(
@@ -198,7 +198,7 @@ def _write_gcode(
             "blocks": prog.blocks,
             "max_fit_deviation_um": prog.max_fit_deviation_mm * 1e3,
         }
-        echo_json(doc)
+        echo_json(doc, command="profile")
     elif not quiet:
         click.echo(
             f"G-code ({prog.mode}): {prog.blocks} blocks, cutter-path offset"
@@ -276,7 +276,7 @@ def report(
                 "max_worst_case": {"value": worst.value, "unit": a.error_unit},
                 "accuracy": a.accuracy.describe(),
             }
-            echo_json(doc)
+            echo_json(doc, command="report")
         elif not quiet:
             click.echo(f"wrote {output} ({a.design.name}: {a.accuracy.describe()})")
         return EXIT_OK

@@ -153,7 +153,7 @@ def size(
             step_deg=step_deg,
         )
         if as_json:
-            echo_json(sizing_json(r))
+            echo_json(sizing_json(r), command="size")
             return EXIT_OK
         click.echo(f"design             {d.name}")
         click.echo(

@@ -215,7 +215,7 @@ def montecarlo(
         if plot:
             _plot(res, plot)
         if as_json:
-            echo_json(res.to_dict())
+            echo_json(res.to_dict(), command="montecarlo")
         else:
             _print(res)
         return EXIT_OK
@@ -321,20 +321,31 @@ def allocate(
             seed=seed,
         )
         if as_json:
+            from camtol.report.tables import accuracy_json
+
             out = {
                 "grades": res.grades,
-                "tolerances": res.tolerances,
+                "tolerances": [
+                    {
+                        "source": t.key,
+                        f"deviation_{'um' if t.unit == 'mm' else 'deg'}": (
+                            t.deviation * 1e3 if t.unit == "mm" else math.degrees(t.deviation)
+                        ),
+                        "origin": t.origin,
+                    }
+                    for t in res.deviations
+                ],
                 "criterion": res.criterion,
                 "spec": res.spec,
                 "unit": res.unit,
                 "achieved": res.achieved,
                 "cost": res.cost,
-                "accuracy": res.accuracy.describe(),
+                "accuracy": accuracy_json(res.accuracy),
                 "yield": {"value": res.verified.value, "ci95": list(res.verified.ci95)},
                 "coarser_fails": res.coarser_fails,
                 "evaluated": res.evaluated,
             }
-            echo_json(out)
+            echo_json(out, command="allocate")
             return EXIT_OK
         echo = click.echo
         echo(

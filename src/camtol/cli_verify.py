@@ -17,6 +17,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.report.units import pretty_unit
 
 __all__ = ["verify"]
 
@@ -30,7 +31,13 @@ def _print_summary(v: object) -> None:
 
     assert isinstance(v, Verification)
     u = v.output_unit
-    echo = click.echo
+
+    def echo(text: str) -> None:  # 80 columns; continuation lines indented
+        import textwrap
+
+        indent = " " * min(len(text) - len(text.lstrip()) + 2, 17)
+        click.echo(textwrap.fill(text, width=80, subsequent_indent=indent))
+
     echo(f"camtol verify: {v.design_name} ({v.follower}), grid {v.step_deg:g}°")
     echo(
         f"  round trip     max |S_contact - S| = {v.roundtrip_max_error:.3g} {u}"
@@ -39,7 +46,7 @@ def _print_summary(v: object) -> None:
     acc = v.roundtrip_acceleration_max_error
     echo(
         f"                 V: {v.roundtrip_velocity_max_error:.3g} {u}/rad"
-        + ("" if acc is None else f", A: {acc:.3g} {u}/rad2")
+        + ("" if acc is None else f", A: {acc:.3g} {u}/rad²")
     )
     if "roundtrip_delta_f_max_mm" in v.extras:
         echo(f"                 fixture Δf: {v.extras['roundtrip_delta_f_max_mm']:.3g} mm")
@@ -63,14 +70,15 @@ def _print_summary(v: object) -> None:
             if "linearisation_quantity" in v.extras
             else "ΔS at the design's tolerances"
         )
-        echo(f"  linearisation  closed form against exact re-simulation, {what} [{unit}]:")
-        echo(
+        shown = pretty_unit(unit)
+        echo(f"  linearisation  closed form against exact re-simulation, {what} ({shown}):")
+        click.echo(
             f"    {'source':<7}{'linear max':>13}{'exact max':>13}{'|diff| max':>13}"
             f"{'at half':>12}{'ratio':>7}"
         )
         for c in v.linearisation.values():
             ratio = "exact" if c.exact_to_rounding else f"{c.halving_ratio:.2f}"
-            echo(
+            click.echo(
                 f"    {c.key:<7}{c.linear_max:>13.6g}{c.exact_max:>13.6g}"
                 f"{c.max_difference:>13.3g}{c.half_difference:>12.3g}{ratio:>7}  {_mark(c.ok)}"
             )
@@ -119,7 +127,7 @@ def verify(
         check_step(step_deg, name="--step", min_points=4, max_points=360_000)
         result = run(load_input(design, example), step_deg=step_deg, polyline=not no_polyline)
         if as_json:
-            echo_json(result.to_dict())
+            echo_json(result.to_dict(), command="verify")
         elif not quiet:
             _print_summary(result)
         return EXIT_OK if result.ok else EXIT_FAIL

@@ -261,7 +261,11 @@ class SegmentProgram(MotionProgram):
         for s in self.segments:
             span = f"{math.degrees(s.start_rad):g}-{math.degrees(s.end_rad):g}°"
             h = f"{s.height * scale:.6g}{unit}"
-            parts.append(f"dwell {span}" if s.kind == "dwell" else f"{s.kind} {h} {s.law} {span}")
+            parts.append(
+                f"dwell {span}"
+                if s.kind == "dwell"
+                else f"{s.kind} {h} {s.law.replace('_', ' ')} {span}"
+            )
         return ", ".join(parts)
 
     def segment_index(

@@ -22,6 +22,7 @@ from camtol.inspection.acceptance import merge_intervals
 from camtol.inspection.fixture import FixtureInspection
 from camtol.inspection.spec import FixtureSpec
 from camtol.jet import FloatArray
+from camtol.report.units import fmt
 
 if TYPE_CHECKING:
     from camtol.inspection.record import RecordEstimates
@@ -337,6 +338,29 @@ def _interval_text(intervals: list[tuple[float, float]]) -> str:
     return text
 
 
+#: Human labels of the fixture's curves in the terminal table (THEORY §4).
+FIXTURE_LABELS: dict[str, str] = {
+    "df_r": "Δf_r (profile errors)",
+    "df_rf": "Δf_rf (roller radii)",
+    "df_l": "Δf_l (arm lengths)",
+    "df_eta": "Δf_η (arm angle η)",
+    "df_est": "Δf_est (total)",
+    "df_mea": "Δf_mea (measured)",
+    "dr_A_est": "Δr_A,est (cam A)",
+    "dr_B_est": "Δr_B,est (cam B)",
+    "df_est_pred": "Δf_est predicted",
+    "df_A_upper": "cam A band: upper Δf",
+    "df_A_lower": "cam A band: lower Δf",
+    "df_B_upper": "cam B band: upper Δf",
+    "df_B_lower": "cam B band: lower Δf",
+}
+
+
+def fixture_label(key: str) -> str:
+    """Human label of a fixture curve key (the key itself when unknown)."""
+    return FIXTURE_LABELS.get(key, key)
+
+
 def print_fixture(
     res: FixtureInspection,
     spec: FixtureSpec,
@@ -356,16 +380,17 @@ def print_fixture(
     name : str
         Design name shown in the heading.
     console : rich.console.Console, optional
-        Console to print to; by default a new one on standard output (132 columns when
+        Console to print to; by default a new one on standard output (80 columns when
         not a terminal).
     record : RecordEstimates, optional
         With an indicator record (THEORY §4.4): prints the record's summary and the
         extremes of the estimates at Δf_mea ± u_f.
     """
+    from rich import box
     from rich.console import Console
     from rich.table import Table
 
-    con = console or Console(width=None if sys.stdout.isatty() else 132)
+    con = console or Console(width=None if sys.stdout.isatty() else 80)
     con.print(f"[bold]{name}[/bold]: conjugate-cam fixture analysis (camtol {__version__})")
     e = spec.errors
     params = Table(show_header=False, box=None, pad_edge=False)
@@ -383,11 +408,30 @@ def print_fixture(
     params.add_row("measured Δf", spec.df_mea.description if spec.df_mea else "(none)")
     con.print(params)
     th = np.degrees(res.theta_rad)
-    table = Table(title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined), µm")
-    for col in ("quantity", "max", "at θ", "min", "at θ"):
-        table.add_column(col, justify="left" if col in ("quantity", "at θ") else "right")
+    table = Table(
+        title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined)",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    for col, just in (
+        ("quantity", "left"),
+        ("unit", "left"),
+        ("max", "right"),
+        ("at θ", "left"),
+        ("min", "right"),
+        ("at θ", "left"),
+    ):
+        wrap = col == "quantity"
+        table.add_column(col, justify=just, no_wrap=not wrap, overflow="fold")  # type: ignore[arg-type]
     for key, (mx, mn) in res.extremes.items():
-        table.add_row(key, f"{mx.value:.3f}", mx.where, f"{mn.value:.3f}", mn.where)
+        table.add_row(
+            fixture_label(key),
+            "µm",
+            fmt(mx.value),
+            "\n".join(mx.where.split(", ")),
+            fmt(mn.value),
+            "\n".join(mn.where.split(", ")),
+        )
     con.print(table)
     if record is not None:
         _print_record(con, record)

@@ -18,7 +18,13 @@ from numpy.typing import ArrayLike
 
 from camtol.exceptions import OutputError
 
-__all__ = ["json_text", "require_finite", "require_finite_columns", "require_finite_json"]
+__all__ = [
+    "json_text",
+    "require_finite",
+    "require_finite_columns",
+    "require_finite_json",
+    "require_no_nan_json",
+]
 
 
 def require_finite(
@@ -122,6 +128,39 @@ def require_finite_json(doc: Any, path: str = "") -> None:
         raise OutputError(
             f"{path or 'value'} is {float(doc)!r} in the JSON output: the result is not a"
             " finite number (the design is outside the range where the computation holds)"
+        )
+
+
+def require_no_nan_json(doc: Any, path: str = "") -> None:
+    """Raise if a float anywhere in a JSON-like document is NaN (infinities pass).
+
+    The JSON emitter writes an infinity as null ("none", e.g. no concave stretch); a NaN
+    is a failed computation and must never be printed.
+
+    Parameters
+    ----------
+    doc : object
+        Nested dicts, lists, tuples and scalars (numpy scalars and arrays included).
+    path : str
+        Key path of ``doc`` (used in the message).
+
+    Raises
+    ------
+    OutputError
+        Naming the key path of the first NaN.
+    """
+    if isinstance(doc, Mapping):
+        for k, v in doc.items():
+            require_no_nan_json(v, f"{path}.{k}" if path else str(k))
+    elif isinstance(doc, (list, tuple)):
+        for i, v in enumerate(doc):
+            require_no_nan_json(v, f"{path}[{i}]")
+    elif isinstance(doc, np.ndarray) and doc.dtype.kind in "fc" and np.any(np.isnan(doc)):
+        raise OutputError(f"{path or 'value'} holds NaN in the JSON output; nothing was printed")
+    elif isinstance(doc, (float, np.floating)) and math.isnan(float(doc)):
+        raise OutputError(
+            f"{path or 'value'} is nan in the JSON output: the result is not a number (the"
+            " design is outside the range where the computation holds); nothing was printed"
         )
 
 

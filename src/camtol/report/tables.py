@@ -9,6 +9,7 @@ design gives a cam speed (``um_per_s``).
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import sys
@@ -20,12 +21,19 @@ import numpy as np
 
 from camtol import __version__
 from camtol.analysis import Analysis
-from camtol.design import IT_CONVENTIONS
+from camtol.design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.extremes import Extreme
+from camtol.iso286 import GradeBracket
 from camtol.report.files import atomic_write
+from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
+from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
 __all__ = [
+    "SCHEMA_VERSION",
+    "accuracy_json",
     "analysis_json",
+    "motion_curves",
+    "motion_units",
     "curves_columns",
     "print_analysis",
     "write_curves_csv",
@@ -33,25 +41,172 @@ __all__ = [
 ]
 
 
+#: Version of the JSON documents of every command (``schema_version``); the JSON Schema
+#: files in ``camtol/data/schemas`` describe it.
+SCHEMA_VERSION = "1.0"
+
+
 def _file_unit(unit: str) -> str:
     """Display unit -> ASCII column suffix: ``um/rad2`` -> ``um_per_rad2``."""
-    return unit.replace("/", "_per_").replace("µ", "u")
+    return file_unit(unit)
 
 
 def _pretty_unit(unit: str) -> str:
-    return unit.replace("um", "µm").replace("deg", "°").replace("rad2", "rad²").replace("s2", "s²")
+    return pretty_unit(unit)
 
 
 def _extreme_json(e: Extreme) -> dict[str, Any]:
     return {
         "value": e.value,
-        "theta_deg": round(e.theta_deg, 4),
-        "ranges_deg": [[round(a, 4), round(b, 4)] for a, b in e.ranges_deg],
+        "theta_deg": e.theta_deg,
+        "ranges_deg": [[a, b] for a, b in e.ranges_deg],
+    }
+
+
+def motion_units(a: Analysis) -> tuple[str, str, str, str]:
+    """ASCII units of the nominal S, V, A, J of the analysis (see :func:`motion_curves`).
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse`.
+
+    Returns
+    -------
+    tuple of str
+        Lift, velocity, acceleration and jerk units: ``mm``, ``m/s``, ``m/s2``, ``m/s3``
+        at a design speed (``rad/s``… for an oscillating follower), else per radian of cam
+        angle (``mm/rad``…, ``rad/rad``…); the lift of an oscillating follower in ``deg``.
+    """
+    translating = a.design.mechanism.output == "translating"
+    if a.design.omega_rad_s is not None:
+        base = "m" if translating else "rad"
+        return ("mm" if translating else "deg", f"{base}/s", f"{base}/s2", f"{base}/s3")
+    base = "mm" if translating else "rad"
+    return ("mm" if translating else "deg", f"{base}/rad", f"{base}/rad2", f"{base}/rad3")
+
+
+def motion_curves(a: Analysis) -> tuple[np.ndarray[Any, Any], ...]:
+    """Nominal lift, velocity, acceleration and jerk on the grid in :func:`motion_units`.
+
+    Parameters
+    ----------
+    a : Analysis
+        Result of :func:`camtol.analysis.analyse`.
+
+    Returns
+    -------
+    tuple of ndarray
+        S, V, A, J (THEORY §0: V, A, J per radian times ω, ω², ω³ at speed).
+    """
+    k = a.kinematics
+    translating = a.design.mechanism.output == "translating"
+    lift = k.lift if translating else np.degrees(k.lift)
+    w = a.design.omega_rad_s
+    if w is None:
+        return lift, k.velocity, k.acceleration, k.jerk
+    si = 1e-3 if translating else 1.0
+    return lift, k.velocity * w * si, k.acceleration * w**2 * si, k.jerk * w**3 * si
+
+
+def _motion_json(a: Analysis) -> dict[str, Any]:
+    assert a.motion is not None
+    _, vu, au, ju = motion_units(a)
+    speed = a.motion.at_speed()
+    peaks = (
+        speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    )
+    out: dict[str, Any] = {"speed_rpm": a.design.speed_rpm}
+    for name, unit, p in zip(
+        ("velocity", "acceleration", "jerk"), (vu, au, ju), peaks, strict=True
+    ):
+        suffix = file_unit(unit)
+        out[f"{name}_max_{suffix}"] = p.max
+        out[f"{name}_max_at_deg"] = p.max_at_deg
+        out[f"{name}_min_{suffix}"] = p.min
+        out[f"{name}_min_at_deg"] = p.min_at_deg
+    if speed is not None and a.design.mechanism.output == "translating":
+        out["acceleration_abs_max_g"] = speed[1].abs_max / STANDARD_GRAVITY
+    return out
+
+
+def _geometry_json(g: CamGeometry) -> dict[str, Any]:
+    return {
+        "cam": g.label,
+        "max_radius_mm": g.max_radius_mm,
+        "pressure_angle_min_deg": g.pressure_angle_deg.min,
+        "pressure_angle_min_at_deg": g.pressure_angle_deg.min_at_deg,
+        "pressure_angle_max_deg": g.pressure_angle_deg.max,
+        "pressure_angle_max_at_deg": g.pressure_angle_deg.max_at_deg,
+        "pressure_angle_limit_deg": g.pressure_angle_limit_deg,
+        "pressure_angle_exceeds_limit": g.exceeds_pressure_angle_limit,
+        "min_convex_radius_mm": g.min_convex_radius_mm,
+        "min_convex_radius_at_deg": g.min_convex_radius_at_deg,
+        "convex_limit": g.convex_limit,
+        "min_concave_radius_mm": g.min_concave_radius_mm,
+        "min_concave_radius_at_deg": g.min_concave_radius_at_deg,
+        "concave_limit": g.concave_limit,
+        "undercut": g.undercut,
+    }
+
+
+def mechanism_parameters(mech: Any) -> dict[str, Any]:
+    """Return the follower's dimensions as snake_case keys with units (``base_radius_mm``).
+
+    Angles held in radians are given in degrees (``arm_angle_rad`` -> ``arm_angle_deg``).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The design's mechanism (a dataclass of numbers).
+
+    Returns
+    -------
+    dict
+        Parameter name -> number (or null when not set).
+    """
+    out: dict[str, Any] = {}
+    if not dataclasses.is_dataclass(mech):
+        return out
+    for f in dataclasses.fields(mech):
+        v = getattr(mech, f.name)
+        if v is not None and not isinstance(v, (int, float)):
+            continue
+        if f.name.endswith("_rad"):
+            out[f.name[:-4] + "_deg"] = None if v is None else math.degrees(v)
+        else:
+            out[f.name] = v
+    return out
+
+
+def accuracy_json(b: GradeBracket) -> dict[str, Any]:
+    """Structured accuracy grade: the bracketing IT grades and their values.
+
+    Parameters
+    ----------
+    b : iso286.GradeBracket
+        The grades bracketing a deviation.
+
+    Returns
+    -------
+    dict
+        ``lower_grade``/``upper_grade`` (e.g. ``"IT7"`` or null), their values in µm
+        (``lower_um``/``upper_um``, thousandths of a degree for an angle) and ``text``.
+    """
+    return {
+        "lower_grade": b.lower,
+        "lower_um": b.lower_um,
+        "upper_grade": b.upper,
+        "upper_um": b.upper_um,
+        "text": b.describe(),
     }
 
 
 def analysis_json(a: Analysis) -> dict[str, Any]:
-    """Return the analysis as a JSON-ready dict: design, tolerances, conventions, extremes.
+    """Return the analysis as a JSON-ready dict (schema ``analyze.schema.json``).
+
+    Keys are ASCII snake_case with units in the names; numbers are numbers rounded to 10
+    significant digits; infinities and NaN are null.
 
     Parameters
     ----------
@@ -61,37 +216,31 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
     Returns
     -------
     dict
-        JSON-ready dict; units are given in the keys or alongside the values.
+        JSON-ready dict.
     """
     k = a.kinematics
     mech = a.design.mechanism
-    rho_i = int(np.argmin(k.curvature_radius_mm))
     out: dict[str, Any] = {
+        "schema_version": SCHEMA_VERSION,
+        "command": "analyze",
         "camtol_version": __version__,
         "design": {
             "name": a.design.name,
             "follower": mech.kind,
-            "parameters": dict(mech.summary()),
+            "parameters": mechanism_parameters(mech),
             "motion": a.design.describe_motion(),
             "speed_rpm": a.design.speed_rpm,
         },
         "step_deg": a.step_deg,
         "conventions": list(IT_CONVENTIONS),
-        "tolerances": [
-            {"source": t.key, "deviation": t.display, "origin": t.origin} for t in a.tolerances
-        ],
+        "tolerances": [_tolerance_json(t) for t in a.tolerances],
         "max_radius_mm": a.max_radius_mm,
         "travel": {"value": a.travel, "unit": a.travel_unit},
-        "accuracy": a.accuracy.describe(),
+        "accuracy": accuracy_json(a.accuracy),
         "notes": list(a.notes),
-        "validity": {
-            "min_curvature_radius_mm": float(k.curvature_radius_mm[rho_i]),
-            "min_curvature_at_deg": float(np.degrees(k.theta_rad[rho_i])),
-            "pressure_angle_deg": [
-                float(np.degrees(k.pressure_angle_rad.min())),
-                float(np.degrees(k.pressure_angle_rad.max())),
-            ],
-        },
+        "motion": _motion_json(a),
+        "cams": [_geometry_json(g) for g in a.geometry],
+        "pressure_angle_exceeds_limit": a.pressure_angle_exceeds_limit,
         "extremes": [
             {
                 "quantity": q.key,
@@ -101,18 +250,19 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
                 "min": _extreme_json(a.extremes[q.key][1]),
             }
             for q in a.quantities
+            if q.key != "curvature_radius"  # see "cams": smallest convex and concave radii
         ],
     }
-    if len(a.design.cams()) > 1:  # the errors above are cam A's; cam B's geometry here
-        from camtol.report.conjugate import conjugate_analysis_json
-
-        out["cam_b"] = conjugate_analysis_json(a)
     if k.face_contact_mm is not None:
-        out["validity"]["face_contact_mm"] = [
-            float(k.face_contact_mm.min()),
-            float(k.face_contact_mm.max()),
-        ]
-    return out
+        out["face_contact_min_mm"] = float(k.face_contact_mm.min())
+        out["face_contact_max_mm"] = float(k.face_contact_mm.max())
+    return dict(json_ready(out))
+
+
+def _tolerance_json(t: ResolvedTolerance) -> dict[str, Any]:
+    if t.unit == "mm":
+        return {"source": t.key, "deviation_um": t.deviation * 1e3, "origin": t.origin}
+    return {"source": t.key, "deviation_deg": math.degrees(t.deviation), "origin": t.origin}
 
 
 def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
@@ -130,8 +280,8 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
         (:func:`camtol.report.conjugate.conjugate_profile_columns`).
     """
     k = a.kinematics
-    out_unit = "mm" if a.design.mechanism.output == "translating" else "deg"
-    lift = k.lift if out_unit == "mm" else np.degrees(k.lift)
+    su, vu, au, ju = motion_units(a)
+    lift, vel, acc, jerk = motion_curves(a)
     cols: dict[str, np.ndarray[Any, Any]] = {
         "theta_deg": np.degrees(k.theta_rad),
         "x_mm": k.contact_x_mm,
@@ -140,7 +290,10 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
         "pressure_angle_deg": np.degrees(k.pressure_angle_rad),
         "shift_angle_deg": np.degrees(k.shift_angle_rad),
         "curvature_radius_mm": k.curvature_radius_mm,
-        f"lift_{out_unit}": lift,
+        f"lift_{su}": lift,
+        f"velocity_{file_unit(vu)}": vel,
+        f"acceleration_{file_unit(au)}": acc,
+        f"jerk_{file_unit(ju)}": jerk,
     }
     if k.face_contact_mm is not None:
         cols["face_contact_mm"] = k.face_contact_mm
@@ -201,93 +354,178 @@ def write_curves_csv(a: Analysis, path: str | Path) -> None:
 
 
 def _fmt(v: float) -> str:
-    if v == 0 or not math.isfinite(v):
-        return f"{v:g}"
-    mag = math.floor(math.log10(abs(v)))
-    if mag < -4:  # e.g. a numerically zero error on a dwell
-        return f"{v:.3e}"
-    return f"{v:.{max(0, 4 - mag)}f}" if mag < 4 else f"{v:.0f}"
+    return fmt(v)
+
+
+def _row_cells(
+    q_label: str, unit: str, mx: Extreme, mn: Extreme
+) -> tuple[str, str, str, str, str, str]:
+    shown, factor = magnitude_unit(unit, max(abs(mx.value), abs(mn.value)))
+    return (
+        q_label,
+        pretty_unit(shown),
+        fmt(mx.value * factor),
+        "\n".join(mx.where.split(", ")),
+        fmt(mn.value * factor),
+        "\n".join(mn.where.split(", ")),
+    )
 
 
 def _rows(a: Analysis) -> Iterable[tuple[str, str, str, str, str, str]]:
+    limit = a.design.pressure_angle_limit_deg
     for q in a.quantities:
+        if q.key == "curvature_radius":  # meaningless across concave stretches: see summary
+            continue
         mx, mn = a.extremes[q.key]
-        yield (q.label, _pretty_unit(q.unit), _fmt(mx.value), mx.where, _fmt(mn.value), mn.where)
+        label = q.label
+        if q.key == "pressure_angle" and limit is not None:
+            if max(abs(mx.value), abs(mn.value)) > limit:
+                label += f" > {limit:g}° LIMIT"
+        yield _row_cells(label, q.unit, mx, mn)
 
 
-def print_analysis(a: Analysis, *, console: Any = None) -> None:
+def _at(deg: float) -> str:
+    return f"{deg:.2f}°"
+
+
+def _geometry_rows(g: CamGeometry) -> list[tuple[str, str]]:
+    cam = f"cam {g.label} " if g.label else ""
+    p = g.pressure_angle_deg
+    pa = f"{p.min:.2f}° at {_at(p.min_at_deg)} .. {p.max:.2f}° at {_at(p.max_at_deg)}"
+    if g.pressure_angle_limit_deg is not None:
+        flag = "EXCEEDS" if g.exceeds_pressure_angle_limit else "within"
+        pa += f" ({flag} the {g.pressure_angle_limit_deg:g}° limit)"
+    rows = [
+        (f"{cam}max radial dimension", f"{fmt(g.max_radius_mm)} mm"),
+        (f"{cam}pressure angle", pa),
+    ]
+    if math.isfinite(g.min_convex_radius_mm):
+        convex = f"{fmt(g.min_convex_radius_mm)} mm at {_at(g.min_convex_radius_at_deg)}"
+    else:
+        convex = "none (no convex stretch)"
+    rows.append((f"{cam}smallest convex radius", f"{convex}; {g.convex_limit}"))
+    if math.isfinite(g.min_concave_radius_mm):
+        concave = f"{fmt(g.min_concave_radius_mm)} mm at {_at(g.min_concave_radius_at_deg)}"
+        rows.append((f"{cam}smallest concave radius", f"{concave}; {g.concave_limit}"))
+    else:
+        rows.append((f"{cam}smallest concave radius", "none (no concave stretch: any cutter)"))
+    if g.undercut:
+        rows.append((f"{cam}UNDERCUT", "the follower cannot generate the profile"))
+    return rows
+
+
+def _motion_rows(a: Analysis) -> list[tuple[str, str]]:
+    if a.motion is None:
+        return []
+    _, vu, au, ju = motion_units(a)
+    speed = a.motion.at_speed()
+    peaks = (
+        speed if speed is not None else (a.motion.velocity, a.motion.acceleration, a.motion.jerk)
+    )
+    where = f"at {a.design.speed_rpm:g} rpm" if speed is not None else "(per radian)"
+    rows = []
+    for name, unit, pk in zip(
+        ("velocity", "acceleration", "jerk"), (vu, au, ju), peaks, strict=True
+    ):
+        top = pk.max if abs(pk.max) >= abs(pk.min) else pk.min
+        at = pk.max_at_deg if top == pk.max else pk.min_at_deg
+        text = f"{fmt(abs(top))} {pretty_unit(unit)} at {_at(at)}"
+        if (
+            name == "acceleration"
+            and speed is not None
+            and a.design.mechanism.output == "translating"
+        ):
+            text += f" ({fmt(pk.abs_max / STANDARD_GRAVITY, 4)} g)"
+        rows.append(
+            (
+                f"peak |{name[0].upper()}| {where}"
+                if name == "velocity"
+                else f"peak |{name[0].upper()}|",
+                text,
+            )
+        )
+    return rows
+
+
+def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -> None:
     """Print the design summary and the extremes table (rich; colour only on a terminal).
+
+    Fits an 80-column terminal: angle ranges are never split, the key/value block is only
+    as wide as its content.
 
     Parameters
     ----------
     a : Analysis
         Result of :func:`camtol.analysis.analyse` for the design.
     console : rich.console.Console, optional
-        Console to print to; by default a new one on standard output (132 columns when
+        Console to print to; by default a new one on standard output (80 columns when
         not a terminal).
+    verbose : bool
+        Also print the IT-grade conventions in force (THEORY §3.6).
     """
+    from rich import box
     from rich.console import Console
     from rich.table import Table
 
-    # Off a terminal rich assumes 80 columns; keep the table unwrapped for files and pipes.
-    con = console or Console(width=None if sys.stdout.isatty() else 132)
+    con = console or Console(width=None if sys.stdout.isatty() else 80)
     d = a.design
-    con.print(f"[bold]{d.name}[/bold]  (camtol {__version__})")
+    con.print(f"[bold]{d.name}[/bold]  (camtol {__version__})", highlight=False)
     if d.description:
-        con.print(d.description.strip())
-    params = Table(show_header=False, box=None, pad_edge=False)
+        con.print(d.description.strip(), markup=False, highlight=False)
+    params = Table(show_header=False, box=None, pad_edge=False, expand=False)
+    params.add_column(no_wrap=True)
+    params.add_column(overflow="fold")
     for name, val in d.mechanism.summary():
         params.add_row(name, val)
     params.add_row("motion", d.describe_motion())
-    params.add_row("max radial dimension", f"{a.max_radius_mm:.4f} mm")
+    if d.speed_rpm is not None:
+        params.add_row("cam speed", f"{d.speed_rpm:g} rpm")
+    for row in _motion_rows(a):
+        params.add_row(*row)
+    for g in a.geometry:
+        for row in _geometry_rows(g):
+            params.add_row(*row)
     k = a.kinematics
-    rho_min = a.extremes["curvature_radius"][1]
-    params.add_row(
-        "min radius of curvature",
-        f"{rho_min.value:.4f} mm at {rho_min.where} (no cusp or undercut)",
-    )
     if k.face_contact_mm is not None:
         params.add_row(
             "contact on face u",
             f"{k.face_contact_mm.min():.3f} .. {k.face_contact_mm.max():.3f} mm (size the face)",
         )
-    if len(d.cams()) > 1:  # the rows above are cam A's; cam B's geometry here
-        from camtol.report.conjugate import conjugate_analysis_json
-
-        b = conjugate_analysis_json(a)
-        params.add_row("cam B max radial dimension", f"{b['max_radius_mm']:.4f} mm")
-        params.add_row(
-            "cam B min radius of curvature",
-            f"{b['min_curvature_radius_mm']:.4f} mm at {b['min_curvature_at_deg']:.2f}°",
-        )
-        params.add_row(
-            "cam B pressure angle",
-            "{:.3f} .. {:.3f}°".format(*b["pressure_angle_deg"]),
-        )
-        params.add_row("cam B shift angle", "{:.3f} .. {:.3f}°".format(*b["shift_angle_deg"]))
-    if d.speed_rpm is not None:
-        params.add_row("cam speed", f"{d.speed_rpm:g} rpm")
     for t in a.tolerances:
-        params.add_row(f"tolerance {t.key}", f"{t.display}  [{t.origin}]")
-    con.print(params)
-    table = Table(title=f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)")
-    for col, just in (
-        ("quantity", "left"),
-        ("unit", "left"),
-        ("max", "right"),
-        ("at θ", "left"),
-        ("min", "right"),
-        ("at θ", "left"),
+        params.add_row(f"tolerance {t.key}", f"{t.display} [{t.origin}]")
+    con.print(params, highlight=False)
+    table = Table(
+        title=f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+        padding=(0, 1),
+    )
+    for col, just, wrap in (
+        ("quantity", "left", True),
+        ("unit", "left", False),
+        ("max", "right", False),
+        ("at θ", "left", False),
+        ("min", "right", False),
+        ("at θ", "left", False),
     ):
-        table.add_column(col, justify=just, overflow="fold")  # type: ignore[arg-type]
-    for row in _rows(a):
-        table.add_row(*row)
-    con.print(table)
+        table.add_column(col, justify=just, no_wrap=not wrap, overflow="fold")  # type: ignore[arg-type]
+    for cells in _rows(a):
+        table.add_row(*cells)
+    con.print(table, highlight=False)
     con.print(
         f"Output accuracy: max |ΔS worst| = {_fmt(a.extremes['dS_worst'][0].value)}"
         f" {_pretty_unit(a.error_unit)} over a travel of {a.travel:g}"
-        f" {_pretty_unit(a.travel_unit)}: {a.accuracy.describe()}"
+        f" {_pretty_unit(a.travel_unit)}: {a.accuracy.describe()}",
+        highlight=False,
     )
+    if a.pressure_angle_exceeds_limit:
+        con.print(
+            f"PRESSURE ANGLE EXCEEDS THE {d.pressure_angle_limit_deg:g}° DESIGN LIMIT"
+            " (exit status 1 with --strict)",
+            style="bold red",
+            markup=False,
+        )
     for note in a.notes:
         con.print(f"Note: {note}.", style="yellow", markup=False)
-    con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim")
+    if verbose:
+        con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim", markup=False)

@@ -28,7 +28,7 @@ from typing import Any, Literal
 import numpy as np
 
 from camtol import iso286
-from camtol.design import CamDesign, ToleranceSpec
+from camtol.design import CamDesign, ResolvedTolerance, ToleranceSpec
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 from camtol.tolerancing.model import StatisticalModel, statistical_model
@@ -50,6 +50,8 @@ class Allocation:
         Chosen grade per source.
     tolerances : dict of str to str
         The resulting deviation per source, in words (e.g. ``19 µm``).
+    deviations : tuple of ResolvedTolerance
+        The same deviations in internal units, with how each was obtained. [mm, rad]
     criterion : str
         ``worst_case``, ``rss`` or ``monte_carlo``.
     spec : float
@@ -74,6 +76,7 @@ class Allocation:
 
     grades: dict[str, str]
     tolerances: dict[str, str]
+    deviations: tuple[ResolvedTolerance, ...]
     criterion: str
     spec: float
     unit: str
@@ -401,6 +404,7 @@ def _allocate(
     return Allocation(
         grades=dict(zip(keys, chosen, strict=True)),
         tolerances={t.key: t.display for t in tols},
+        deviations=tuple(tols),
         criterion=criterion,
         spec=spec * scale,
         unit=base.unit,

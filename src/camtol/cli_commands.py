@@ -1,0 +1,78 @@
+"""The commands that live in their own modules, imported only when they run.
+
+Each entry: name → (module, attribute, short help). ``camtol --help`` lists the short help
+without importing the module; a test checks it equals the command's own first line.
+"""
+
+from __future__ import annotations
+
+__all__ = ["COMMANDS"]
+
+COMMANDS: dict[str, tuple[str, str, str]] = {
+    "conjugate": (
+        "camtol.cli_conjugate",
+        "conjugate",
+        "Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.",
+    ),
+    "profile": (
+        "camtol.cli_report",
+        "profile",
+        "Export the cam profile for CAD/CAM (CSV, DXF or SVG, chosen by the suffix of -o).",
+    ),
+    "report": (
+        "camtol.cli_report",
+        "report",
+        "Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.",
+    ),
+    "verify": (
+        "camtol.cli_verify",
+        "verify",
+        "Verify a design's analytic results with the exact contact engine (THEORY §5).",
+    ),
+    "size": (
+        "camtol.cli_size",
+        "size",
+        "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
+        " limits.",
+    ),
+    "precision": (
+        "camtol.cli_manufacturing",
+        "precision",
+        "How precise must the lift table be? (THEORY §6.1, §6.2)",
+    ),
+    "cut": (
+        "camtol.cli_manufacturing",
+        "cut",
+        "Simulate cutting at discrete cam angles and follow the cut cam exactly (THEORY §6.3).",
+    ),
+    "derive": (
+        "camtol.cli_manufacturing",
+        "derive",
+        "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
+    ),
+    "records": (
+        "camtol.cli_records",
+        "records",
+        "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
+    ),
+    "montecarlo": (
+        "camtol.cli_tolerancing",
+        "montecarlo",
+        "Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.",
+    ),
+    "allocate": (
+        "camtol.cli_tolerancing",
+        "allocate",
+        "Choose the coarsest (cheapest) IT grade per source that meets a spec.",
+    ),
+    "inspect": (
+        "camtol.cli_inspect",
+        "inspect",
+        "Inspect a machined cam from CMM points: registration, deviations, follower error.",
+    ),
+    "simulate": (
+        "camtol.cli_simulate",
+        "simulate",
+        "Digital twins: simulated measurement files with their truth beside them.",
+    ),
+}

@@ -1,0 +1,89 @@
+"""Invocations whose ``--json`` output tests/test_json_schemas.py validates (issue 13 item 6).
+
+Each command with a ``--json`` flag needs at least one entry here and a schema file
+``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory and
+``{scan}`` a simulated CMM scan of cam B of cw11-experiment.
+"""
+
+from __future__ import annotations
+
+INVOCATIONS: dict[str, list[list[str]]] = {
+    "montecarlo": [
+        ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--spec-um", "25", "--json"],
+        ["montecarlo", "-e", "roller-translating", "--samples", "50", "--mode", "exact", "--json"],
+    ],
+    "allocate": [
+        ["allocate", "-e", "cw06-translating", "--spec-um", "30", "--json"],
+        [
+            "allocate",
+            "-e",
+            "cw06-oscillating",
+            "--spec-deg",
+            "0.05",
+            "--criterion",
+            "rss",
+            "--json",
+        ],
+    ],
+    "analyze": [
+        ["analyze", "-e", "cw06-translating", "--step", "0.5", "--json"],
+        ["analyze", "-e", "cw06-oscillating", "--step", "0.5", "--json"],
+        ["analyze", "-e", "roller-translating", "--step", "0.5", "--json"],
+        ["analyze", "-e", "roller-oscillating", "--step", "0.5", "--json"],
+        ["analyze", "-e", "cw11-conjugate", "--step", "0.5", "--json"],
+        ["analyze", "-e", "popa-eccentric", "--step", "0.5", "--json"],
+    ],
+    "conjugate": [
+        ["conjugate", "-e", "cw11-conjugate", "--step", "0.5", "--json"],
+        ["conjugate", "-e", "cw11-experiment", "--step", "0.5", "--json"],
+    ],
+    "profile": [
+        ["profile", "-e", "roller-translating", "-o", "{tmp}/p.csv", "--json"],
+        ["profile", "-e", "cw11-conjugate", "-o", "{tmp}/p.dxf", "--json"],
+    ],
+    "report": [["report", "-e", "cw06-translating", "-o", "{tmp}/r.html", "--json"]],
+    "verify": [
+        ["verify", "-e", "cw06-translating", "--step", "0.5", "--json"],
+        ["verify", "-e", "cw11-conjugate", "--step", "0.5", "--json", "--no-polyline"],
+    ],
+    "size": [
+        ["size", "-e", "roller-translating", "--json"],
+        ["size", "-e", "cw06-translating", "--json"],
+    ],
+    "precision": [
+        ["precision", "-e", "roller-translating", "--decimals", "4", "--json"],
+        ["precision", "-e", "popa-eccentric", "--accel-budget", "1", "--json"],
+    ],
+    "cut": [["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"]],
+    "derive": [["derive", "{tmp}/lift.csv", "--json"]],
+    "inspect": [
+        [
+            "inspect",
+            "-e",
+            "cw11-experiment",
+            "--points",
+            "{scan}",
+            "--cam",
+            "B",
+            "--stylus-radius-mm",
+            "1",
+            "--json",
+        ]
+    ],
+}
+
+
+def prepare(tmp: str) -> dict[str, str]:
+    """Write the input files the invocations read; return the ``{name}`` substitutions."""
+    import math
+    from pathlib import Path
+
+    from camtol.cli import main
+
+    lift = Path(tmp) / "lift.csv"
+    rows = "\n".join(f"{t:g},{5 * (1 - math.cos(math.radians(t))):.6f}" for t in range(0, 360))
+    lift.write_text("theta_deg,lift_mm\n" + rows + "\n")
+    scan = Path(tmp) / "b.csv"
+    args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(scan), "--cam", "B"]
+    assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
+    return {"tmp": tmp, "scan": str(scan)}
