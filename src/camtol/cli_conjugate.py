@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -24,6 +25,10 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_inspection_options import decision_option
+
+if TYPE_CHECKING:  # pragma: no cover
+    from camtol.inspection.decision import DecisionRule
 
 __all__ = ["conjugate"]
 
@@ -71,6 +76,7 @@ __all__ = ["conjugate"]
     metavar="DEG",
     help="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
 )
+@decision_option
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
     "--curves",
@@ -92,6 +98,7 @@ def conjugate(
     master_a: str | None,
     master_b: str | None,
     step_deg: float,
+    decision: str,
     as_json: bool,
     curves: str | None,
     plot: str | None,
@@ -103,6 +110,10 @@ def conjugate(
     the master cams' errors and the measured Δf (THEORY §4, §8.3); the options override
     them. Prints the extremes and a verdict per inspected cam with the cam-angle intervals
     where it fails. Exit status 1 when a cam fails.
+
+    --decision chooses the conformance rule (ISO 14253-1): 'simple' accepts a cam whose
+    Δf_mea is in its band; 'guard-band' (with --record) only when Δf_mea ± u_f is, i.e.
+    the acceptance zone shrunk by the uncertainty. The rule is stated in the output.
 
     With --record the indicator record is processed (THEORY §4.4): its mean over complete
     revolutions is Δf_mea and the verdicts are taken on it; the inverse estimates at the
@@ -174,6 +185,17 @@ def conjugate(
             from camtol.inspection.record import record_estimates
 
             estimates = record_estimates(d, spec, processed, res.theta_rad)
+        if decision == "guard-band" and estimates is None:
+            fail(
+                "--decision=guard-band needs the measurement uncertainty u_f of an indicator"
+                " record; give --record FILE.csv, or use --decision simple"
+            )
+        from camtol.inspection.decision import decide, decision_rule_text
+
+        rule: DecisionRule = "guard-band" if decision == "guard-band" else "simple"
+        res = dataclasses.replace(
+            res, verdicts=decide(res, rule, None if estimates is None else estimates.u_f_um)
+        )
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
@@ -181,20 +203,23 @@ def conjugate(
             from camtol.report.plots import fixture_figure
 
             fig = fixture_figure(
-                res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+                res,
+                tolerance_a_um=spec.tolerance_a_um,
+                tolerance_b_um=spec.tolerance_b_um,
+                design_name=d.name,
+                record=estimates,
+                decision_rule=rule,
             )
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if as_json:
-            click.echo(
-                json.dumps(
-                    rep.fixture_json(res, spec, d.name, record=estimates),
-                    indent=2,
-                    default=_json_default,
-                )
-            )
+            doc = rep.fixture_json(res, spec, d.name, record=estimates)
+            doc["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
+            click.echo(json.dumps(doc, indent=2, default=_json_default))
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
+            if res.verdicts:
+                click.echo(f"Decision rule: {decision_rule_text(rule)}.")
         return EXIT_FAIL if res.passed is False else EXIT_OK
 
     raise _Exit(run_guarded(body))

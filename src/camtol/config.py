@@ -223,6 +223,25 @@ class OperationSchema(_Strict):
     pressure_angle_limit_deg: float | None = Field(default=None, gt=0, lt=90)
 
 
+class TraceabilitySchema(_Strict):
+    """Optional ``[traceability]`` table: what identifies the part in a QA report."""
+
+    part_number: str | None = None
+    drawing_number: str | None = None
+    revision: str | None = None
+    serial: str | None = None
+    inspector: str | None = None
+    instrument: str | None = None
+    date: str | None = None
+
+
+class DrawingSchema(_Strict):
+    """Optional ``[drawing]`` table: features drawn in the DXF/SVG export only."""
+
+    bore_diameter_mm: float | None = Field(default=None, gt=0)
+    hub_diameter_mm: float | None = Field(default=None, gt=0)
+
+
 class DesignSchema(_Strict):
     """Top level of a design file."""
 
@@ -236,6 +255,8 @@ class DesignSchema(_Strict):
     # The conjugate fixture's inputs: typed by camtol.inspection.spec (field names checked
     # there, so that messages name them as `inspection.<field>`).
     inspection: dict[str, Any] = {}
+    traceability: TraceabilitySchema = TraceabilitySchema()
+    drawing: DrawingSchema = DrawingSchema()
 
 
 def _format_validation_error(exc: ValidationError, prefix: str = "") -> str:
@@ -415,11 +436,22 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             description=top.description,
             reference=top.reference,
             inspection=_inspection(top.inspection, base_dir),
+            extras=_extras(top),
         )
     except ConfigError:
         raise
     except DesignError as exc:
         raise ConfigError(str(exc)) from None
+
+
+def _extras(top: DesignSchema) -> dict[str, object]:
+    """``[traceability]`` and ``[drawing]`` as ``CamDesign.extras`` (only the fields given)."""
+    out: dict[str, object] = {}
+    trace = top.traceability.model_dump(exclude_none=True)
+    if trace:
+        out["traceability"] = trace
+    out.update(top.drawing.model_dump(exclude_none=True))
+    return out
 
 
 def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | None:

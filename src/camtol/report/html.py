@@ -19,14 +19,23 @@ import numpy as np
 
 from camtol.analysis import Analysis, analyse
 from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.report.qa import (
+    PRINT_CSS,
+    TRACEABILITY_FIELDS,
+    InspectionReport,
+    OverallVerdict,
+    overall_verdict,
+    radius_table,
+    radius_table_html,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-    from camtol.inspection.fixture import FixtureInspection
-    from camtol.inspection.spec import FixtureSpec
+__all__ = ["CONVENTIONS", "InspectionReport", "figure_svg", "report_html", "write_report"]
 
-__all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
+#: Sentinel: "inspect the design's own [inspection] table" (the default of report_html).
+_FROM_DESIGN: Any = object()
 
 #: Conventions of THEORY §0 stated in every report.
 CONVENTIONS: tuple[str, ...] = (
@@ -123,16 +132,35 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _inspection(design: CamDesign) -> tuple[FixtureInspection, FixtureSpec] | None:
+def _inspection(design: CamDesign) -> InspectionReport | None:
     spec = design.inspection
     if design.mechanism.kind != "conjugate" or spec is None:
         return None
     from camtol.inspection.fixture import inspect_conjugate
 
-    return inspect_conjugate(design, spec), spec
+    return InspectionReport(inspect_conjugate(design, spec), spec)
 
 
-def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None) -> str:
+def _banner(v: OverallVerdict) -> str:
+    cls = {"PASS": "pass", "FAIL": "fail"}.get(v.status, "info")
+    what = "Inspected part" if v.inspected else "Design check (no measured part)"
+    items = "".join(f"<li>{_e(r)}</li>" for r in v.reasons)
+    return (
+        f'<div class="banner {cls}" id="verdict" role="status"><strong>{_e(v.status)}</strong>'
+        f" &mdash; {_e(what)}<ul>{items}</ul></div>"
+    )
+
+
+def _traceability(design: CamDesign, given: dict[str, str] | None) -> list[list[str]]:
+    fields: dict[str, str] = {}
+    raw = design.extras.get("traceability")
+    if isinstance(raw, dict):
+        fields.update({str(k): str(v) for k, v in raw.items()})
+    fields.update({k: v for k, v in (given or {}).items() if v})
+    return [[label, fields[key]] for key, label in TRACEABILITY_FIELDS if key in fields]
+
+
+def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     d = a.design
     k = a.kinematics
     worst = a.extremes["dS_worst"][0]
@@ -166,7 +194,18 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
             f" design limit {limit:g}°."
         )
     if fixture is not None:
-        res, _ = fixture
+        res = fixture.inspection
+        if res.verdicts:
+            from camtol.inspection.decision import decision_rule_text
+
+            items.append(f"Decision rule: {_e(decision_rule_text(fixture.decision))}.")
+        if fixture.record is not None:
+            p = fixture.record.processed
+            items.append(
+                f"Indicator record: {p.revolutions} revolutions, measurement uncertainty"
+                f" u_f up to {_fmt(p.u_f_max_um)} µm (rms {_fmt(p.u_f_rms_um)} µm,"
+                " THEORY §4.4)."
+            )
         if not res.verdicts:
             items.append("Fixture: no measured Δf in the design file; acceptance bands only.")
         for cam, v in sorted(res.verdicts.items()):
@@ -184,18 +223,32 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(design_or_analysis: CamDesign | Analysis) -> str:
+def report_html(
+    design_or_analysis: CamDesign | Analysis,
+    *,
+    fixture: InspectionReport | None = _FROM_DESIGN,
+    traceability: dict[str, str] | None = None,
+    radius_table_appendix: bool = False,
+) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
     ----------
     design_or_analysis : CamDesign or Analysis
         A design (analysed with the default 0.1° step) or a finished analysis.
+    fixture : InspectionReport or None, optional
+        A finished fixture inspection to report (``camtol report --df-mea/--record``);
+        None for none; by default the design's own ``[inspection]`` table is inspected.
+    traceability : dict of str to str, optional
+        Traceability fields (keys of :data:`camtol.report.qa.TRACEABILITY_FIELDS`); they
+        override the design's ``[traceability]`` table.
+    radius_table_appendix : bool
+        Append the cam drawing's radius table, every 1° of polar angle.
 
     Returns
     -------
     str
-        The complete HTML document.
+        The complete HTML document; the overall PASS/FAIL banner comes first.
     """
     from camtol import __version__
     from camtol.report.plots import analysis_figure, fixture_figure
@@ -206,7 +259,9 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
         else analyse(design_or_analysis)
     )
     d = a.design
-    fixture = _inspection(d)
+    if fixture is _FROM_DESIGN:
+        fixture = _inspection(d)
+    verdict = overall_verdict(a, fixture)
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -214,8 +269,9 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
         '<meta name="viewport" content="width=device-width, initial-scale=1">',
         '<link rel="icon" href="data:,">',
         f"<title>{_e(d.name)}: camtol report</title>",
-        f"<style>{_CSS}</style></head><body>",
+        f"<style>{_CSS}{PRINT_CSS}</style></head><body>",
         f"<h1>{_e(d.name)}</h1>",
+        _banner(verdict),
         f'<p class="meta">camtol {_e(__version__)} report, generated {now}.'
         f" Analysis grid {a.step_deg:g}°, extremes refined to step/1000.</p>",
     ]
@@ -226,6 +282,10 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
     if d.reference:
         parts.append(f'<p class="meta">Reference: {_e(d.reference)}</p>')
 
+    trace = _traceability(d, traceability)
+    if trace:
+        parts.append("<h2>Traceability</h2>")
+        parts.append(_table(["field", "value"], trace))
     parts.append("<h2>Verdicts</h2>")
     parts.append(_verdicts(a, fixture))
 
@@ -245,7 +305,7 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
         parts.append("<h3>Tolerances</h3>")
         parts.append(_table(["source", "error", "deviation", "obtained from"], trows))
     if fixture is not None:
-        _, spec = fixture
+        spec = fixture.spec
         er = spec.errors
         frows = [
             [
@@ -297,11 +357,16 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
         )
     ]
     if fixture is not None:
-        res, spec = fixture
+        spec = fixture.spec
         figures.append(
             (
                 fixture_figure(
-                    res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+                    fixture.inspection,
+                    tolerance_a_um=spec.tolerance_a_um,
+                    tolerance_b_um=spec.tolerance_b_um,
+                    design_name=d.name,
+                    record=fixture.record,
+                    decision_rule=fixture.decision,
                 ),
                 "Centre-distance variation Δf and its components, estimated profile errors with"
                 " the tolerances, and the acceptance bands with the measured Δf; failing"
@@ -313,6 +378,15 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
             f'<figure class="figure" id="figure-{i}">{figure_svg(fig, prefix=f"fig{i}")}'
             f"<figcaption>Figure {i}. {_e(caption)}</figcaption></figure>"
         )
+    if radius_table_appendix:
+        parts.append('<section class="appendix"><h2>Appendix: radius table</h2>')
+        parts.append(
+            '<p class="meta">Profile radius R (and pitch-curve radius of a roller) every 1° of'
+            " polar angle in the cam frame X-Y (origin at the pivot O2, angle counterclockwise"
+            " from X; THEORY §0), interpolated from a 0.02° sampling of the exact profile.</p>"
+        )
+        parts.append(radius_table_html(radius_table(d), _e))
+        parts.append("</section>")
     parts.append(
         f'<hr><p class="meta">Generated by camtol {_e(__version__)}. Equations, sign'
         " conventions and sources (CW06, CW11, WC05, Wu03): the Theory page of the camtol"
@@ -326,6 +400,10 @@ def report_html(design_or_analysis: CamDesign | Analysis) -> str:
 def write_report(
     design_or_analysis: CamDesign | Analysis,
     path: str | Path,
+    *,
+    fixture: InspectionReport | None = _FROM_DESIGN,
+    traceability: dict[str, str] | None = None,
+    radius_table_appendix: bool = False,
 ) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
@@ -335,6 +413,8 @@ def write_report(
         A design (analysed with the default 0.1° step) or a finished analysis.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
+    fixture, traceability, radius_table_appendix
+        As for :func:`report_html`.
 
     Returns
     -------
@@ -372,5 +452,13 @@ def write_report(
         if isinstance(design_or_analysis, Analysis)
         else analyse(design_or_analysis)
     )
-    atomic_write(p, report_html(a))
+    atomic_write(
+        p,
+        report_html(
+            a,
+            fixture=fixture,
+            traceability=traceability,
+            radius_table_appendix=radius_table_appendix,
+        ),
+    )
     return a
