@@ -165,7 +165,7 @@ def profile_error_estimate_plot(
                     color=colour,
                     ls=style,
                     lw=1.6 if cam == "A" else 1.1,
-                    gid=f"tolerance_{cam}",
+                    gid=f"tolerance_{cam}_{('lower', 'upper')[j]}",
                     label=f"tolerance of cam {cam}: {tol[0]:g} .. {tol[1]:g} µm"
                     if j == 0
                     else None,

@@ -118,15 +118,13 @@ def shift_angle_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
         arts.append(ax.axhline(-limit, color=_COLOURS[3], lw=1.0, ls=":"))
     ax.set_ylabel(_label("λ, φ", "deg"))
     _theta_axis(ax)
-    handles = list(arts)
+    handles = list(arts[:3])  # λ, φ and (one of) the limit lines
     if "face_contact" in c:
         ax2 = ax.twinx()
         line = ax2.plot(t, c["face_contact"], color=_COLOURS[2], ls="-.", label="contact on face u")
         ax2.set_ylabel(_label("u", "mm"))
         arts += line
         handles += line
-    if limit is not None:
-        handles.append(arts[2])
     if "face_contact" in c:  # clear of the twin axis' labels
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.14, 1.0), fontsize="small")
     else:
