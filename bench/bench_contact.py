@@ -16,6 +16,7 @@ import math
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +76,7 @@ def main() -> list[Figure]:
     psi = theta + phi
     # Pick the fastest block shape on a tenth of the directions (not timed below).
     shapes = [(64, 4096), (128, 2048), (256, 1024), (32, 8192)]
-    pick = {b: best_of(lambda b=b: support_blocked(psi[::10], pts, *b), 1)[0] for b in shapes}
+    pick = {b: best_of(partial(support_blocked, psi[::10], pts, *b), 1)[0] for b in shapes}
     block = min(pick, key=lambda b: pick[b])
 
     def brute() -> np.ndarray:

@@ -371,6 +371,16 @@ def _register_subcommands() -> None:
         "derive",
         "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
     )
+    LAZY_COMMANDS["inspect"] = (
+        "camtol.cli_inspect",
+        "inspect",
+        "Inspect a machined cam from CMM points: registration, deviations, follower error.",
+    )
+    LAZY_COMMANDS["simulate"] = (
+        "camtol.cli_simulate",
+        "simulate",
+        "Digital twins: simulated measurement files with their truth beside them.",
+    )
     cli.lazy_commands.update(LAZY_COMMANDS)
 
 

@@ -88,6 +88,28 @@ __all__ = ["conjugate"]
     metavar="FILE.png",
     help="Write the fixture figure: Δf parts, estimated errors, acceptance bands (PNG/SVG/PDF).",
 )
+@click.option(
+    "--cmm-a",
+    metavar="SCAN.csv",
+    help="CMM scan of cam A (with --cmm-b): the CMM errors become the masters and the"
+    " fixture is compared with the CMM ([CW11] Table 4; docs/cmm-inspection.md).",
+)
+@click.option("--cmm-b", metavar="SCAN.csv", help="CMM scan of cam B (with --cmm-a).")
+@click.option(
+    "--cmm-stylus-radius-mm",
+    "cmm_stylus_mm",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Stylus radius of the CMM scans (0: surface points) [mm].",
+)
+@click.option(
+    "--cmm-datum",
+    default="fit",
+    show_default=True,
+    metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
+    help="Registration of the CMM scans (as `camtol inspect --datum`).",
+)
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
 def conjugate(
     design: str | None,
@@ -102,6 +124,10 @@ def conjugate(
     as_json: bool,
     curves: str | None,
     plot: str | None,
+    cmm_a: str | None,
+    cmm_b: str | None,
+    cmm_stylus_mm: float,
+    cmm_datum: str,
     quiet: bool,
 ) -> None:
     """Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.
@@ -180,6 +206,22 @@ def conjugate(
                 read_indicator_csv(record_path), drop_bad_revolutions=drop_bad_revolutions
             )
             spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
+        comparison = None
+        if (cmm_a is None) != (cmm_b is None):
+            fail("--cmm-a and --cmm-b go together: give the scans of both cams")
+        if cmm_a is not None and cmm_b is not None:
+            from camtol.cli_inspect import cmm_pair_masters
+
+            spec, comparison = cmm_pair_masters(
+                d,
+                spec,
+                cmm_a,
+                cmm_b,
+                stylus_radius_mm=cmm_stylus_mm,
+                datum_text=cmm_datum,
+                master_given=(master_a is not None, master_b is not None),
+                step_deg=step_deg,
+            )
         res = inspect_conjugate(d, spec, step_deg=step_deg)
         if record_path is not None:
             from camtol.inspection.record import record_estimates
@@ -213,13 +255,20 @@ def conjugate(
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if as_json:
-            doc = rep.fixture_json(res, spec, d.name, record=estimates)
-            doc["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
-            click.echo(json.dumps(doc, indent=2, default=_json_default))
+            data = rep.fixture_json(res, spec, d.name, record=estimates)
+            data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
+            if comparison is not None:
+                data["cmm_comparison"] = comparison.summary()
+            click.echo(json.dumps(data, indent=2, default=_json_default))
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
             if res.verdicts:
                 click.echo(f"Decision rule: {decision_rule_text(rule)}.")
+            if comparison is not None:
+                from camtol.cli_inspect import cmm_comparison_lines
+
+                for line in cmm_comparison_lines(comparison.summary()):
+                    click.echo(line)
         return EXIT_FAIL if res.passed is False else EXIT_OK
 
     raise _Exit(run_guarded(body))

@@ -18,6 +18,8 @@ of intermediate steps.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -26,6 +28,7 @@ from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.kinematics import Kinematics, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import Mechanism
+from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["CHUNK", "evaluate_engine"]
@@ -57,18 +60,32 @@ class _Columns:
         self._full: dict[str, FloatArray] = {}
         self._const: dict[str, float] = {}
 
-    def put(self, key: str, value: JetLike, where: slice) -> None:
-        v = jet.value(value)
+    def put_chunk(self, values: dict[str, FloatArray], where: slice) -> None:
+        """Write one chunk of every quantity (the first chunk also classifies them)."""
+        if where.start != 0:
+            for key, v in values.items():
+                self._put(key, v, where)
+            return
+        varying = []
+        for key, v in values.items():
+            c = float(v.flat[0]) if v.size else math.nan
+            if v.size and bool(np.all(v == c)):
+                self._const[key] = c
+            elif where.stop >= self.n and v.shape == (self.n,):
+                self._full[key] = v  # a single chunk: keep the array itself
+            else:
+                varying.append(key)
+        # One block for all the full-length columns: a large allocation gets huge pages
+        # (numpy asks for them), so filling it costs far fewer page faults.
+        block = np.empty((len(varying), self.n))
+        for row, key in zip(block, varying, strict=True):
+            self._full[key] = row
+            row[where] = values[key]
+
+    def _put(self, key: str, v: FloatArray, where: slice) -> None:
         out = self._full.get(key)
         if out is None:
-            first = where.start == 0
-            if v.size and (first or key in self._const):
-                c = float(v.flat[0])
-                if (first or self._const[key] == c) and bool(np.all(v == c)):
-                    self._const[key] = c
-                    return
-            if first and where.stop >= self.n and v.shape == (self.n,):
-                self._full[key] = v  # a single chunk: keep the array itself
+            if key in self._const and v.size and bool(np.all(v == self._const[key])):
                 return
             out = self._full[key] = np.empty(self.n)
             if key in self._const:
@@ -90,6 +107,28 @@ class _Columns:
     def keys(self) -> list[str]:
         """Keys put so far."""
         return [*self._full, *self._const]
+
+
+def _full_length(x: JetLike, shape: tuple[int, ...]) -> FloatArray:
+    """Return the value of ``x`` as an array of ``shape`` (a scalar broadcast, read-only)."""
+    v = jet.value(x)
+    return v if v.shape == shape else np.broadcast_to(v, shape)
+
+
+def _motion(
+    design: CamDesign, theta: FloatArray, left: NDArray[np.bool_], chunk: int
+) -> MotionState:
+    """S, V, A, J of the design's program, evaluated chunk by chunk into full arrays."""
+    n = theta.size
+    if n <= chunk:
+        return design.program.evaluate(theta, left_limit=left)
+    out = [np.empty(n) for _ in range(4)]
+    for a in range(0, n, chunk):
+        at = slice(a, min(n, a + chunk))
+        m = design.program.evaluate(theta[at], left_limit=left[at])
+        for full, part in zip(out, (m.lift, m.velocity, m.acceleration, m.jerk), strict=True):
+            full[at] = part
+    return MotionState(*out)
 
 
 def evaluate_engine(
@@ -133,14 +172,14 @@ def evaluate_engine(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
-    motion = design.program.evaluate(theta, left_limit=left)
+    motion = _motion(design, theta, left, max(int(chunk), 1))
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
     own = {src.key for src in mech.sources}
     design_keys = [t.key for t in design.tolerances if t.key not in own and t.key in DESIGN_SOURCES]
     n = theta.size
-    geo, sens = _Columns(n), _Columns(n)
+    cols = _Columns(n)
     plain: set[str] = set()
     q_is_velocity = False
     for a in range(0, n, max(int(chunk), 1)):
@@ -157,24 +196,19 @@ def evaluate_engine(
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         q_is_velocity = g.q is v
-        for key in _GEOMETRY:
-            if not (key == "q" and q_is_velocity):
-                geo.put(key, getattr(g, key), at)
-        for key in _EXTRAS:
-            if key in g.extras:
-                geo.put(key, g.extras[key], at)
-        geo.put("curvature_radius", mech.curvature_radius(t, s, v, acc), at)
-        geo.put("radius", np.hypot(jet.value(g.contact_x), jet.value(g.contact_y)), at)
+        values = {key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)}
+        values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
+        values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
+        values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         for key, x in sources.items():
             if isinstance(x, Jet):
-                sens.put(key, x.v, at)
-                sens.put(f"{key}'", x.d1, at)
-                sens.put(f"{key}''", x.d2, at)
+                values[f"s:{key}"], values[f"s:{key}'"], values[f"s:{key}''"] = x.v, x.d1, x.d2
             else:
                 plain.add(key)
-                sens.put(key, np.broadcast_to(np.asarray(x, dtype=float), t.shape), at)
-        del g, sources, th, lift, vel
-    c = geo
+                values[f"s:{key}"] = np.asarray(x, dtype=float)
+        cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at)
+        del g, sources, th, lift, vel, values
+    c = cols
     kin = Kinematics(
         theta_rad=theta,
         left_limit=left,
@@ -198,9 +232,9 @@ def evaluate_engine(
         check_geometry(design, kin)
     zero: NDArray[np.float64] = np.broadcast_to(0.0, theta.shape)
     out: dict[str, Jet] = {}
-    for key in (k for k in sens.keys() if not k.endswith("'")):
+    for key in (k[2:] for k in c.keys() if k.startswith("s:") and not k.endswith("'")):
         if key in plain:
-            out[key] = Jet(sens[key], zero, zero)
+            out[key] = Jet(c[f"s:{key}"], zero, zero)
         else:
-            out[key] = Jet(sens[key], sens[f"{key}'"], sens[f"{key}''"])
+            out[key] = Jet(c[f"s:{key}"], c[f"s:{key}'"], c[f"s:{key}''"])
     return kin, out

@@ -128,6 +128,11 @@ class ErrorAnalysis:
         part = np.empty_like(out)
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
+            c = _constant(s)
+            if c is not None:  # a broadcast constant: one scalar, not an array pass
+                if c != 0.0:
+                    out += abs(c) * abs(src.deviation)
+                continue
             np.abs(s, out=part)
             part *= abs(src.deviation)
             out += part
@@ -150,6 +155,11 @@ class ErrorAnalysis:
         part = np.empty_like(out)
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
+            c = _constant(s)
+            if c is not None:
+                if c != 0.0:
+                    out += (c * src.deviation) * (c * src.deviation)
+                continue
             np.multiply(s, src.deviation, out=part)
             part *= part
             out += part
@@ -184,6 +194,13 @@ class ErrorAnalysis:
     def rms_acceleration(self) -> FloatArray:
         """sqrt(Σ_p ΔA_p²). [mm/rad², or rad/rad²]"""
         return self.rms(2)
+
+
+def _constant(s: FloatArray) -> float | None:
+    """Return the value of a broadcast constant (a zero-stride array), else None."""
+    if s.ndim == 1 and s.size and s.strides == (0,):
+        return float(s[0])
+    return None
 
 
 def _as_jet(x: JetLike, like: FloatArray) -> Jet:

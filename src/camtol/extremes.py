@@ -68,12 +68,11 @@ class Extreme:
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
     """Index runs [i, j] (inclusive) of True values."""
-    idx = np.flatnonzero(mask)
-    if idx.size == 0:
+    if mask.size == 0:
         return []
-    breaks = np.flatnonzero(np.diff(idx) > 1)
-    starts = np.concatenate([idx[:1], idx[breaks + 1]])
-    ends = np.concatenate([idx[breaks], idx[-1:]])
+    bounds = np.concatenate(([0], np.flatnonzero(mask[1:] != mask[:-1]) + 1, [mask.size]))
+    held = mask[bounds[:-1]]  # each stretch between changes is all True or all False
+    starts, ends = bounds[:-1][held], bounds[1:][held] - 1
     return list(zip(starts.tolist(), ends.tolist(), strict=True))
 
 
@@ -209,19 +208,19 @@ class _Windows:
         ``smooth``: the five samples around the best follow a parabola, whose vertex is
         returned; otherwise the best sample itself.
         """
-        y = self.samples[name][w * self.size : (w + 1) * self.size]
+        y = self.samples[name][w * self.size : (w + 1) * self.size].tolist()
         sign = 1.0 if kind == "max" else -1.0
-        z = np.where(np.isfinite(y), sign * y, -np.inf)
-        j = int(np.argmax(z))
+        z = [sign * v if math.isfinite(v) else -math.inf for v in y]  # few points: plain floats
+        j = max(range(len(z)), key=z.__getitem__)
         t = float(self.centres[w] + self.offsets[j])
-        if not (2 <= j <= self.size - 3) or not np.all(np.isfinite(z[j - 2 : j + 3])):
-            return t, float(y[j]), False
-        ym2, ym1, y0, y1, y2 = (float(v) for v in z[j - 2 : j + 3])
+        if not 2 <= j <= self.size - 3 or not all(math.isfinite(v) for v in z[j - 2 : j + 3]):
+            return t, y[j], False
+        ym2, ym1, y0, y1, y2 = z[j - 2 : j + 3]
         a = 0.5 * (y1 - 2.0 * y0 + ym1)  # z ≈ y0 + b·u + a·u² (u in samples)
         b = 0.5 * (y1 - ym1)
         # The outer samples must follow the same parabola: a kink or a jump does not.
         miss = max(abs(y2 - (y0 + 2 * b + 4 * a)), abs(ym2 - (y0 - 2 * b + 4 * a)))
         if not a < 0.0 or miss > _SMOOTH * -a:
-            return t, float(y[j]), False
+            return t, y[j], False
         u = -b / (2.0 * a)  # |u| <= 1/2 since y0 is the best sample
         return t + u * self.h, sign * (y0 - b * b / (4.0 * a)), True

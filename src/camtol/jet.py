@@ -51,11 +51,17 @@ class Jet:
         First derivative df/dθ. [unit of f / rad]
     d2 : ndarray
         Second derivative d²f/dθ². [unit of f / rad²]
+    unit : bool, keyword-only
+        True when d1 ≡ 1 and d2 ≡ 0 (θ itself, or θ plus a constant), as
+        :meth:`variable` sets it; the chain rule then needs no arithmetic.
     """
 
     v: FloatArray
     d1: FloatArray
     d2: FloatArray
+    #: True when f' = 1 and f'' = 0 exactly (θ itself, or θ plus a constant): the chain
+    #: rule then needs no arithmetic.
+    unit: bool = field(default=False, kw_only=True, repr=False, compare=False)
     #: sin and cos of ``v``, computed once by :func:`sin`/:func:`cos` and shared by both.
     _sincos: tuple[FloatArray, FloatArray] | None = field(
         default=None, init=False, repr=False, compare=False
@@ -79,7 +85,7 @@ class Jet:
             The jet (θ, 1, 0). [rad, dimensionless, 1/rad]
         """
         t = np.asarray(theta_rad, dtype=float)
-        return cls(t, np.ones_like(t), np.zeros_like(t))
+        return cls(t, np.ones_like(t), np.zeros_like(t), unit=True)
 
     @classmethod
     def constant(cls, c: Real, like: FloatArray) -> Jet:
@@ -103,6 +109,8 @@ class Jet:
     # --- arithmetic -------------------------------------------------------------------
     def _chain(self, g0: FloatArray, g1: FloatArray, g2: FloatArray) -> Jet:
         """Compose g∘f given g(f), g'(f), g''(f)."""
+        if self.unit:  # f' = 1, f'' = 0: (g∘f)' = g'(f), (g∘f)'' = g''(f)
+            return Jet(g0, g1, g2)
         d2 = g2 * self.d1
         d2 *= self.d1
         d2 += g1 * self.d2
@@ -111,7 +119,7 @@ class Jet:
     def __add__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):
             return Jet(self.v + other.v, self.d1 + other.d1, self.d2 + other.d2)
-        return Jet(self.v + other, self.d1, self.d2)
+        return Jet(self.v + other, self.d1, self.d2, unit=self.unit)
 
     __radd__ = __add__
 
@@ -121,7 +129,7 @@ class Jet:
     def __sub__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):
             return Jet(self.v - other.v, self.d1 - other.d1, self.d2 - other.d2)
-        return Jet(self.v - other, self.d1, self.d2)
+        return Jet(self.v - other, self.d1, self.d2, unit=self.unit)
 
     def __rsub__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):  # pragma: no cover - Jet - Jet uses __sub__

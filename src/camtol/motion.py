@@ -87,21 +87,23 @@ NormalizedLaw = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray,
 
 def _cycloidal(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     w = TWO_PI * x
+    sin_w, cos_w = np.sin(w), np.cos(w)  # once each: transcendentals dominate the cost
     return (
-        x - np.sin(w) / TWO_PI,
-        1.0 - np.cos(w),
-        TWO_PI * np.sin(w),
-        TWO_PI**2 * np.cos(w),
+        x - sin_w / TWO_PI,
+        1.0 - cos_w,
+        TWO_PI * sin_w,
+        TWO_PI**2 * cos_w,
     )
 
 
 def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     w = math.pi * x
+    sin_w, cos_w = np.sin(w), np.cos(w)
     return (
-        0.5 * (1.0 - np.cos(w)),
-        0.5 * math.pi * np.sin(w),
-        0.5 * math.pi**2 * np.cos(w),
-        -0.5 * math.pi**3 * np.sin(w),
+        0.5 * (1.0 - cos_w),
+        0.5 * math.pi * sin_w,
+        0.5 * math.pi**2 * cos_w,
+        -0.5 * math.pi**3 * sin_w,
     )
 
 
@@ -469,9 +471,11 @@ class SegmentProgram(MotionProgram):
         idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
         out = [np.zeros_like(t) for _ in range(4)]
         for i, seg in enumerate(self.segments):
-            m = idx == i
-            if not np.any(m):
+            rows = np.flatnonzero(idx == i)
+            if rows.size == 0:
                 continue
+            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
+            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
                 continue

@@ -42,6 +42,7 @@ from camtol.mechanisms.base import (
 from camtol.mechanisms.roller_oscillating import (
     RollerOscillating,
     oscillating_roller_contact,
+    oscillating_roller_lean_sensitivities,
     oscillating_roller_pitch,
     oscillating_roller_sensitivities,
 )
@@ -126,6 +127,21 @@ class ConjugateCamB(RollerMechanism):
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
         """Δξ per unit error of cam B's sources, rad per mm or rad per rad (see class Notes)."""
         out = oscillating_roller_sensitivities(geometry, self.arm_length_mm, self.side)
+        out["eta"] = jet.value(theta) * 0.0 + 1.0
+        return out
+
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Lean form of :meth:`sensitivities` (:func:`oscillating_roller_lean_sensitivities`)."""
+        out = oscillating_roller_lean_sensitivities(
+            self.arm_angle(lift),
+            velocity,
+            self.pivot_distance_mm,
+            self.arm_length_mm,
+            self.roller_radius_mm,
+            self.side,
+        )
         out["eta"] = jet.value(theta) * 0.0 + 1.0
         return out
 
@@ -288,6 +304,12 @@ class ConjugatePair(Mechanism):
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
         """Cam A's single-contact sensitivities (THEORY §3.3)."""
         return self.cam_a.sensitivities(geometry, theta)
+
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Cam A's lean form (the pair stands for cam A)."""
+        return self.cam_a.error_sensitivities(theta, lift, velocity)
 
     def curvature_radius(
         self,

@@ -37,6 +37,7 @@ from camtol.mechanisms.roller_translating import pitch_curvature_radius
 __all__ = [
     "RollerOscillating",
     "oscillating_roller_contact",
+    "oscillating_roller_lean_sensitivities",
     "oscillating_roller_pitch",
     "oscillating_roller_sensitivities",
 ]
@@ -189,6 +190,66 @@ def oscillating_roller_sensitivities(
     }
 
 
+def oscillating_roller_lean_sensitivities(
+    gamma: JetLike,
+    velocity: JetLike,
+    pivot_mm: float,
+    arm_mm: float,
+    roller_mm: float,
+    side: int,
+) -> dict[str, JetLike]:
+    r"""Lean form of :func:`oscillating_roller_sensitivities`, straight from the motion.
+
+    Parameters
+    ----------
+    gamma : JetLike
+        Arm angle at O3 from O3O2: ξ (cam A) or η − ξ (cam B). [rad]
+    velocity : JetLike
+        V = dξ/dθ of the follower. [rad/rad]
+    pivot_mm, arm_mm, roller_mm : float
+        f, l and r_f. [mm]
+    side : {-1, +1}
+        −1 cam A, +1 cam B.
+
+    Returns
+    -------
+    dict
+        ``r``, ``n``, ``rf``, ``l``, ``f`` [rad/mm], equal to the general form.
+
+    Notes
+    -----
+    In the frame turning with the line of centres, C = (f − l cos γ, −side·l sin γ) and
+    Q = (−q, 0), so C − Q = (d, −side·l sin γ) with d = f + q − l cos γ and ρ = |C − Q|:
+    cos α = d/ρ, cos φ = sin(α + γ) = (f + q) sin γ/ρ and
+    tan φ = ((f + q) cos γ − l)/((f + q) sin γ) (THEORY §2.4). With n = (C − Q)/ρ and
+    A = C − r_f n, sin λ = n × C/|A| = −side·l q sin γ/(ρ|A|) and
+    |A|² = |C|² − 2 r_f n·C + r_f² (THEORY §2.5); cos λ ≥ 0 as the arcsin of §2.5 gives it.
+    """
+    f, l_, rf = pivot_mm, arm_mm, roller_mm
+    k = -float(side)
+    q = f * velocity / (1.0 - velocity)
+    fq = q + f
+    sin_g, cos_g = jet.sin(gamma), jet.cos(gamma)
+    d = fq - l_ * cos_g
+    ls = l_ * sin_g
+    ls2 = ls * ls
+    rho = jet.sqrt(d * d + ls2)
+    inv_rho = 1.0 / rho
+    fq_sin = fq * sin_g
+    inv = (k / l_) * rho / fq_sin  # k / (l cos φ)
+    n_dot_c = (d * (f - l_ * cos_g) + ls2) * inv_rho
+    radius = jet.sqrt((f * f + l_ * l_ + rf * rf) - 2.0 * f * l_ * cos_g - 2.0 * rf * n_dot_c)
+    sin_shift = q * ls * inv_rho / radius
+    cos_shift = jet.sqrt(1.0 - sin_shift * sin_shift)
+    return {
+        "r": cos_shift * inv,
+        "n": inv,
+        "rf": inv,
+        "l": k * (fq * cos_g - l_) / (fq_sin * l_),
+        "f": -(d * inv_rho) * inv,
+    }
+
+
 @dataclass(frozen=True)
 class RollerOscillating(RollerMechanism):
     r"""Oscillating roller follower (cam A of THEORY §2.4 alone); output ξ in radians.
@@ -278,6 +339,19 @@ class RollerOscillating(RollerMechanism):
         The derivation is in :func:`oscillating_roller_sensitivities`.
         """
         return oscillating_roller_sensitivities(geometry, self.arm_length_mm, self.side)
+
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Lean form of :meth:`sensitivities` (:func:`oscillating_roller_lean_sensitivities`)."""
+        return oscillating_roller_lean_sensitivities(
+            self.initial_angle_rad + lift,
+            velocity,
+            self.pivot_distance_mm,
+            self.arm_length_mm,
+            self.roller_radius_mm,
+            self.side,
+        )
 
     def curvature_radius(
         self,

@@ -189,6 +189,29 @@ class RollerTranslating(RollerMechanism):
             "e": jet.tan(geometry.pressure_angle),
         }
 
+    def error_sensitivities(
+        self, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> dict[str, JetLike]:
+        """Lean form of :meth:`sensitivities`: no trigonometry, no contact point.
+
+        In the frame (t, w) turning with θ, C = (a, e) and Q = (0, V) with a = s0 + S,
+        so C − Q = (a, −b), b = V − e, ρ = |C − Q|: cos φ = a/ρ and tan φ = b/a
+        (THEORY §2.3). With n = (C − Q)/ρ and A = C − r_f n, sin λ = n × C / |A| =
+        aV / (ρ|A|) and |A|² = a² + e² − 2 r_f (a² − b e)/ρ + r_f² (THEORY §2.5); cos λ ≥ 0
+        as the arcsin of §2.5 gives it.
+        """
+        e, rf = self.offset_mm, self.roller_radius_mm
+        a = lift + self.s0_mm
+        b = velocity - e
+        a2 = a * a
+        rho = jet.sqrt(a2 + b * b)
+        inv_a = 1.0 / a
+        inv_cos = rho * inv_a
+        radius = jet.sqrt(a2 - 2.0 * rf * (a2 - e * b) / rho + (e * e + rf * rf))
+        sin_shift = a * velocity / (rho * radius)
+        cos_shift = jet.sqrt(1.0 - sin_shift * sin_shift)
+        return {"r": cos_shift * inv_cos, "n": inv_cos, "rf": inv_cos, "e": b * inv_a}
+
     def curvature_radius(
         self,
         theta_rad: FloatArray,

@@ -1,0 +1,430 @@
+"""Profile deviations of a registered CMM scan and the verdict (THEORY §0, §2).
+
+For every point, after registration (:mod:`camtol.inspection.registration`), in the cam
+frame:
+
+- Δn: the signed distance to the exact closest point of the *analytic* profile
+  (> 0 outside: material added, THEORY §0), along the profile's outward normal;
+- Δr: the radial deviation |p| − |P| with P the profile point on the ray O2p;
+- the profile form: the zone width max Δn − min Δn, and the minimum-zone value, the
+  smallest width over the transforms the datum leaves free (a linear programme on the
+  linearised deviations Δn + J δ, solved by :func:`scipy.optimize.linprog`);
+- the verdict against the design's profile tolerance [lower, upper] µm and the
+  polar-angle intervals where points fall outside it. Outliers (reported by index) do
+  not enter the verdict.
+
+The profile tolerance is the design's ``tolerances.n`` (on Δn: ISO 1101's line-profile
+zone along the normal) or ``tolerances.r`` (on Δr, ± the resolved value; THEORY §3.6), or
+for a conjugate pair ``inspection.tolerance_a_um`` / ``tolerance_b_um`` (radial, THEORY
+§4.3), unless given explicitly (on Δn by default).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError, GeometryError, InputFileError
+from camtol.inspection.cmm import CamLabel, Scan, check_coverage
+from camtol.inspection.profile_table import ProfileTable, profile_table
+from camtol.inspection.registration import Datum, Registration, register
+from camtol.jet import FloatArray
+from camtol.mechanisms.base import Mechanism
+
+__all__ = [
+    "CamProfile",
+    "CmmInspection",
+    "cam_profile",
+    "inspect_scan",
+    "minimum_zone",
+    "ToleranceKind",
+    "profile_tolerance",
+]
+
+ToleranceKind = Literal["normal", "radial"]
+
+#: A scan whose points lie further than this from the nominal (90th percentile of |Δn|,
+#: after registration) is refused as a scan of another part, unless the tolerance is
+#: wider. [mm]
+IMPLAUSIBLE_MM = 1.0
+
+
+@dataclass(frozen=True)
+class CamProfile:
+    """One cam of a design, ready for inspection.
+
+    Attributes
+    ----------
+    label : {"A", "B"}
+        Which cam (a single cam is ``"A"``).
+    design : CamDesign
+        The single-contact design of that cam (its mechanism drives only this cam).
+    table : ProfileTable
+        Its nominal profile, tabulated for fast exact queries.
+    """
+
+    label: str
+    design: CamDesign
+    table: ProfileTable
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The cam's follower mechanism."""
+        return self.design.mechanism
+
+
+def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
+    """Return cam ``cam`` of a design with its tabulated nominal profile.
+
+    Parameters
+    ----------
+    design : CamDesign
+        Any design; for a conjugate pair cam "A" or "B".
+    cam : {"A", "B"}
+        Which cam; "B" only for a conjugate pair.
+
+    Raises
+    ------
+    DesignError
+        Cam "B" of a single cam, or an unknown label.
+    """
+    if cam not in ("A", "B"):
+        raise DesignError(f"--cam {cam!r} is not allowed; use A or B")
+    cams = design.cams()
+    if cam == "B" and len(cams) < 2:
+        raise DesignError(
+            f"--cam B: the design {design.name!r} has one cam ({design.mechanism.kind});"
+            " cam B exists only for a conjugate pair"
+        )
+    single = cams[0 if cam == "A" else 1].design
+    return CamProfile(cam, single, profile_table(single.mechanism, single.program))
+
+
+def profile_tolerance(
+    design: CamDesign, cam: CamLabel = "A"
+) -> tuple[float, float, ToleranceKind] | None:
+    """Return the profile tolerance [lower, upper] of a cam and what it bounds, or None.
+
+    ``inspection.tolerance_a_um`` / ``tolerance_b_um`` of a conjugate pair and
+    ``tolerances.r`` bound the radial deviation Δr (THEORY §0, §8.3); ``tolerances.n``
+    the normal deviation Δn.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (for a conjugate pair, the pair's design with its [inspection] table).
+    cam : {"A", "B"}
+        Which cam.
+
+    Returns
+    -------
+    (float, float, str) or None
+        Lower and upper limit [µm] and ``"radial"`` or ``"normal"``.
+    """
+    spec = design.inspection
+    if spec is not None:
+        lo, hi = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
+        return float(lo), float(hi), "radial"
+    keys = {t.key for t in design.tolerances}
+    for key, kind in (("n", "normal"), ("r", "radial")):
+        if key in keys:
+            from camtol.kinematics import kinematics
+
+            theta = np.linspace(0.0, 2 * math.pi, 3601)
+            r_max = float(kinematics(design, theta, check=False).radius_mm.max())
+            dev = next(t for t in design.resolve_tolerances(r_max) if t.key == key)
+            return -dev.deviation * 1e3, dev.deviation * 1e3, kind  # type: ignore[return-value]
+    return None
+
+
+@dataclass(frozen=True)
+class CmmInspection:
+    """Deviations and verdict of one scanned cam.
+
+    Attributes
+    ----------
+    cam : str
+        ``"A"`` or ``"B"``.
+    source : str
+        The scan's file name.
+    registration : Registration
+        Placement of the cam frame in the CMM frame, with uncertainties and outliers.
+    index : ndarray of int
+        Data row (0-based, in the file) of each profile point (bore points and the other
+        cam's points excluded).
+    x_mm, y_mm : ndarray
+        Points in the cam frame. [mm]
+    theta_deg : ndarray
+        Polar angle of each point in the cam frame, in [0, 360). [deg]
+    param_rad : ndarray
+        Profile parameter (cam angle of contact) of each point's closest point. [rad]
+    dn_um, dr_um : ndarray
+        Normal and radial deviations. [µm]
+    outlier : ndarray of bool
+        Points reported as outliers (not in the verdict).
+    tolerance_um : (float, float)
+        Profile tolerance [lower, upper]. [µm]
+    tolerance_kind : {"normal", "radial"}
+        The deviation the tolerance bounds: Δn or Δr.
+    form_um : float
+        Zone width max Δn − min Δn of the points kept. [µm]
+    min_zone_um : float
+        Minimum-zone width over the transforms the datum leaves free. [µm]
+    failing_intervals_deg : list of (float, float)
+        Polar-angle intervals with points outside the tolerance (end < start: wraps). [deg]
+    """
+
+    cam: str
+    source: str
+    registration: Registration
+    index: NDArray[np.intp]
+    x_mm: FloatArray
+    y_mm: FloatArray
+    theta_deg: FloatArray
+    param_rad: FloatArray
+    dn_um: FloatArray
+    dr_um: FloatArray
+    outlier: NDArray[np.bool_]
+    tolerance_um: tuple[float, float]
+    tolerance_kind: str
+    form_um: float
+    min_zone_um: float
+    failing_intervals_deg: list[tuple[float, float]]
+
+    @property
+    def passed(self) -> bool:
+        """True when every point kept lies inside the tolerance."""
+        return not self.failing_intervals_deg
+
+    @property
+    def kept(self) -> NDArray[np.bool_]:
+        """Points that are not outliers."""
+        return ~self.outlier
+
+    @property
+    def max_dn_um(self) -> float:
+        """Largest Δn of the points kept. [µm]"""
+        return float(np.max(self.dn_um[self.kept]))
+
+    @property
+    def min_dn_um(self) -> float:
+        """Smallest Δn of the points kept. [µm]"""
+        return float(np.min(self.dn_um[self.kept]))
+
+
+def minimum_zone(dn_mm: FloatArray, jac: FloatArray, *, max_rounds: int = 8) -> float:
+    """Smallest width max − min of Δn + J δ over δ (linearised transforms). [mm]
+
+    Solves min (u − l) s.t. l ≤ Δn_i + J_i δ ≤ u by :func:`scipy.optimize.linprog`
+    (HiGHS) on the points nearest the zone's edges, adding violated points until all hold.
+
+    Parameters
+    ----------
+    dn_mm : ndarray
+        Deviations at the registration. [mm]
+    jac : ndarray, shape (N, p)
+        ∂Δn/∂(transform parameters); p = 0 gives the zone width itself.
+    max_rounds : int
+        Rounds of adding violated points.
+    """
+    if jac.shape[1] == 0:
+        return float(np.max(dn_mm) - np.min(dn_mm))
+    from scipy.optimize import linprog
+
+    n, p = jac.shape
+    m = min(n, 400)
+    order = np.argsort(dn_mm)
+    active = np.unique(np.concatenate([order[:m], order[-m:], np.arange(0, n, max(1, n // m))]))
+    cost = np.concatenate([np.zeros(p), [-1.0, 1.0]])  # variables δ, l, u
+    width = float(np.max(dn_mm) - np.min(dn_mm))
+    for _ in range(max_rounds):
+        ja = jac[active]
+        ones = np.ones((active.size, 1))
+        a_ub = np.block([[ja, np.zeros_like(ones), -ones], [-ja, ones, np.zeros_like(ones)]])
+        b_ub = np.concatenate([-dn_mm[active], dn_mm[active]])
+        res = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=[(None, None)] * (p + 2), method="highs")
+        if res.status != 0:
+            return width
+        delta, lo, hi = res.x[:p], res.x[p], res.x[p + 1]
+        moved = dn_mm + jac @ delta
+        viol = np.flatnonzero((moved > hi + 1e-12) | (moved < lo - 1e-12))
+        if viol.size == 0:
+            return float(hi - lo)
+        active = np.union1d(active, viol)
+    moved = dn_mm + jac @ delta
+    return float(np.max(moved) - np.min(moved))
+
+
+def _intervals(theta_deg: FloatArray, fail: NDArray[np.bool_]) -> list[tuple[float, float]]:
+    """Polar-angle intervals of consecutive failing points (sorted by angle; wraps)."""
+    if not np.any(fail):
+        return []
+    order = np.argsort(theta_deg, kind="stable")
+    th, f = theta_deg[order], fail[order]
+    if np.all(f):
+        return [(0.0, 360.0)]
+    starts = np.flatnonzero(f & ~np.roll(f, 1))
+    ends = np.flatnonzero(f & ~np.roll(f, -1))
+    out = [(float(th[s]), float(th[e])) for s, e in zip(starts, ends, strict=True)]
+    if ends[0] < starts[0]:  # the run through 0° is split: join its two halves
+        out = [(float(th[starts[-1]]), float(th[ends[0]]))] + [
+            (float(th[s]), float(th[e])) for s, e in zip(starts[:-1], ends[1:], strict=True)
+        ]
+    return sorted(out)
+
+
+def inspect_scan(
+    design: CamDesign,
+    scan: Scan,
+    *,
+    cam: CamLabel = "A",
+    datum: Datum | None = None,
+    tolerance_um: tuple[float, float] | None = None,
+    tolerance_kind: ToleranceKind | None = None,
+    profile: CamProfile | None = None,
+) -> CmmInspection:
+    """Register a scan to the nominal cam and compute its deviations and verdict.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (for a conjugate pair, the pair).
+    scan : Scan
+        The measured points (surface points; see :func:`~camtol.inspection.cmm.read_scan`).
+    cam : {"A", "B"}
+        Which cam of a conjugate pair the scan is.
+    datum : Datum, optional
+        Registration (default: best fit over rotation and translation).
+    tolerance_um : (float, float), optional
+        Profile tolerance [lower, upper] (default: the design's). [µm]
+    tolerance_kind : {"normal", "radial"}, optional
+        Whether the tolerance bounds Δn or Δr (default: the design's kind, or
+        ``"normal"`` for a tolerance given here).
+    profile : CamProfile, optional
+        The cam's tabulated profile, when already built (:func:`cam_profile`).
+
+    Returns
+    -------
+    CmmInspection
+
+    Raises
+    ------
+    InputFileError
+        Points that do not go round the cam, or that lie implausibly far from the
+        nominal after registration (a scan of another cam).
+    DesignError
+        No profile tolerance in the design and none given.
+    """
+    datum = Datum() if datum is None else datum
+    prof = cam_profile(design, cam) if profile is None else profile
+    design_tol = profile_tolerance(design, cam) if tolerance_um is None else None
+    tol = (design_tol[0], design_tol[1]) if design_tol is not None else tolerance_um
+    kind: str = tolerance_kind or (design_tol[2] if design_tol is not None else "normal")
+    if kind not in ("normal", "radial"):
+        raise DesignError(f"tolerance kind {kind!r} is not allowed; use normal or radial")
+    if tol is None:
+        raise DesignError(
+            f"the design {design.name!r} states no profile tolerance (tolerances.r or"
+            " tolerances.n, or inspection.tolerance_a_um); give --tolerance-um LOWER,UPPER"
+        )
+    if not (math.isfinite(tol[0]) and math.isfinite(tol[1]) and tol[0] < tol[1]):
+        raise DesignError(f"tolerance {list(tol)} µm is not allowed; give lower < upper")
+    px, py, index = scan.profile_points()
+    bx, by = scan.x_mm[scan.bore], scan.y_mm[scan.bore]
+    centre = (0.0, 0.0)
+    if datum.mode == "fit":
+        from camtol.inspection.registration import area_centroid
+
+        centre = area_centroid(px, py)
+    elif datum.mode == "centre" and datum.centre_mm is not None:
+        centre = datum.centre_mm
+    elif datum.mode == "bore" and bx.size >= 3:
+        from camtol.inspection.cmm import fit_circle
+
+        cx, cy, _ = fit_circle(bx, by)
+        centre = (cx, cy)
+    check_coverage(scan.source, px - centre[0], py - centre[1])
+
+    def wrong() -> str:
+        return (
+            f"{scan.source}: the points do not match the nominal profile of cam {prof.label}"
+            f" of {design.name!r}{_other_cam_hint(design, scan, prof.label, datum, tol)}"
+        )
+
+    try:
+        reg = register(prof.table, px, py, datum, bore_x_mm=bx, bore_y_mm=by, source=scan.source)
+        pts = reg.points
+        if pts is None:
+            xc, yc = reg.to_cam(px, py)
+            t, dn, nx, ny = prof.table.closest(xc, yc)
+        else:
+            xc, yc, t, dn, nx, ny = pts.x_mm, pts.y_mm, pts.param_rad, pts.dn_mm, pts.nx, pts.ny
+    except GeometryError:
+        raise InputFileError(
+            f"{wrong()} (no closest profile point found for some): is this a scan of that cam?"
+        ) from None
+    outlier = np.zeros(px.size, dtype=bool)
+    outlier[reg.outliers] = True
+    kept = ~outlier
+    limit = max(IMPLAUSIBLE_MM, 5e-3 * max(abs(tol[0]), abs(tol[1])))
+    p90 = float(np.quantile(np.abs(dn[kept]), 0.9))
+    if p90 > limit:
+        raise InputFileError(
+            f"{wrong()}: after registration 10% of them lie more than {p90:.3g} mm from it,"
+            f" beyond any plausible tolerance ({limit:g} mm): is this a scan of that cam?"
+        )
+    dr = prof.table.radial(xc, yc, t)
+    jac = _free_jacobian(reg, xc, yc, nx, ny)
+    dn_um, dr_um = dn * 1e3, dr * 1e3
+    theta_deg = np.mod(np.degrees(np.arctan2(yc, xc)), 360.0)
+    dev_um = dn_um if kind == "normal" else dr_um
+    fail = kept & ((dev_um < tol[0]) | (dev_um > tol[1]))
+    return CmmInspection(
+        cam=prof.label,
+        source=scan.source,
+        registration=reg,
+        index=scan.rows[index],
+        x_mm=xc,
+        y_mm=yc,
+        theta_deg=theta_deg,
+        param_rad=t,
+        dn_um=dn_um,
+        dr_um=dr_um,
+        outlier=outlier,
+        tolerance_um=(float(tol[0]), float(tol[1])),
+        tolerance_kind=kind,
+        form_um=float(np.ptp(dn_um[kept])),
+        min_zone_um=1e3 * minimum_zone(dn[kept], jac[kept]),
+        failing_intervals_deg=_intervals(theta_deg, fail),
+    )
+
+
+def _other_cam_hint(
+    design: CamDesign, scan: Scan, label: str, datum: Datum, tol: tuple[float, float]
+) -> str:
+    """For a conjugate pair: ' (it matches cam X)' when the scan fits the other cam."""
+    if len(design.cams()) < 2:
+        return ""
+    other = "B" if label == "A" else "A"
+    try:
+        inspect_scan(design, scan, cam=other, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
+    except (InputFileError, GeometryError):
+        return ""
+    return f" (it matches cam {other}: use --cam {other})"
+
+
+def _free_jacobian(
+    reg: Registration, xc: FloatArray, yc: FloatArray, nx: FloatArray, ny: FloatArray
+) -> FloatArray:
+    """∂Δn/∂(rotation, translation) for the parameters the datum leaves free."""
+    cols = []
+    if "rotation" in reg.fitted:
+        cols.append(nx * yc - ny * xc)
+    if "translation" in reg.fitted:
+        cols += [-nx, -ny]  # in the cam frame the translation's directions are free
+    return np.stack(cols, axis=1) if cols else np.zeros((xc.size, 0))

@@ -1,0 +1,406 @@
+"""Digital twins of the CMM and of the fixture for the same simulated parts (THEORY §4.4, §5).
+
+:func:`simulate_scan` makes the scan a CMM would produce of a cam with a known profile
+error: points on the exact profile with the error (the contact engine's
+:class:`~camtol.contact.AnalyticShape`), stylus-ball centres offset by the ball radius
+along the normal, Gaussian probe noise along the normal, outliers, and the part's
+placement on the machine (rotation and eccentricity), with the truth beside it.
+
+:func:`fixture_delta_f` gives the centre-distance variation Δf(θ) that the measuring
+fixture reads on the *same* parts (exact simulation, :func:`~camtol.contact.simulate_fixture`,
+with the cams' radial errors and the fixture's actual arm lengths, roller radii and arm
+angle), to feed :func:`camtol.inspection.simulate_record`: a simulated CMM pair and a
+simulated indicator record then describe the same cams.
+
+The profile error is a given :class:`~camtol.contact.FourierError` or a random
+Fourier series from :func:`random_profile_error` (amplitudes falling as 1/k, scaled to a
+stated rms; a stand-in until the tolerancing random processes are on main).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixture
+from camtol.design import CamDesign
+from camtol.exceptions import DesignError
+from camtol.inspection import ErrorFunction, FixtureErrors
+from camtol.inspection.cmm import MIN_POINTS, CamLabel
+from camtol.inspection.deviations import cam_profile
+from camtol.jet import FloatArray
+
+__all__ = [
+    "ErrorKind",
+    "ScanTruth",
+    "error_from_truth",
+    "SimulatedScan",
+    "fixture_delta_f",
+    "random_profile_error",
+    "scan_csv_text",
+    "simulate_scan",
+]
+
+ErrorKind = Literal["radial", "normal"]
+
+
+def random_profile_error(
+    rms_um: float, *, harmonics: tuple[int, int] = (2, 20), seed: int = 0, mean_um: float = 0.0
+) -> FourierError:
+    """Draw a random Fourier-series profile error with amplitudes ∝ 1/k, scaled to an rms.
+
+    Parameters
+    ----------
+    rms_um : float
+        rms of the varying part over a revolution. [µm]
+    harmonics : (int, int)
+        Lowest and highest harmonic k.
+    seed : int
+        Random seed.
+    mean_um : float
+        Constant part (uniform material excess). [µm]
+
+    Returns
+    -------
+    FourierError
+        Δ(θ) in mm.
+    """
+    lo, hi = harmonics
+    if not (1 <= lo <= hi):
+        raise DesignError(f"harmonics={harmonics!r} is not allowed; give 1 ≤ lowest ≤ highest")
+    rng = np.random.default_rng(seed)
+    k = np.arange(lo, hi + 1)
+    a = rng.normal(size=k.size) / k
+    b = rng.normal(size=k.size) / k
+    scale = rms_um * 1e-3 / math.sqrt(0.5 * float(np.sum(a * a + b * b))) if rms_um > 0 else 0.0
+    cos = np.zeros(hi)
+    sin = np.zeros(hi)
+    cos[lo - 1 :], sin[lo - 1 :] = a * scale, b * scale
+    return FourierError(mean_um * 1e-3, tuple(cos.tolist()), tuple(sin.tolist()))
+
+
+def _error_json(err: FourierError | None, kind: ErrorKind) -> dict[str, Any]:
+    if err is None:
+        return {"kind": kind, "mean_um": 0.0, "cos_um": [], "sin_um": []}
+    return {
+        "kind": kind,
+        "formula": "mean + sum_k (cos_k cos(k theta) + sin_k sin(k theta)), theta in rad",
+        "mean_um": err.mean_mm * 1e3,
+        "cos_um": [a * 1e3 for a in err.cos_mm],
+        "sin_um": [b * 1e3 for b in err.sin_mm],
+    }
+
+
+@dataclass(frozen=True)
+class ScanTruth:
+    """What a simulated scan was made from (written as ``scan.truth.json``).
+
+    Attributes
+    ----------
+    design, cam : str
+        Design name and cam label.
+    points : int
+        Profile points.
+    noise_um : float
+        Standard deviation of the probe noise along the normal. [µm]
+    seed : int
+        Random seed.
+    stylus_radius_mm : float
+        Ball radius (0: the file holds surface points). [mm]
+    rotation_deg, dx_mm, dy_mm : float
+        Placement: x_CMM = R(rotation) x_cam + (dx, dy). [deg, mm]
+    outlier_indices : list of int
+        Rows (0-based data rows) that are outliers.
+    profile_error : dict
+        ``kind`` (radial or normal), ``mean_um``, ``cos_um``, ``sin_um`` (harmonics 1, 2, ...
+        of the profile parameter θ in rad).
+    """
+
+    design: str
+    cam: str
+    points: int
+    noise_um: float
+    seed: int
+    stylus_radius_mm: float
+    rotation_deg: float
+    dx_mm: float
+    dy_mm: float
+    outlier_indices: list[int]
+    profile_error: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        """Return the truth as a JSON-ready dict (keys as the attributes)."""
+        return {
+            "design": self.design,
+            "cam": self.cam,
+            "points": self.points,
+            "noise_um": self.noise_um,
+            "seed": self.seed,
+            "stylus_radius_mm": self.stylus_radius_mm,
+            "placement": {
+                "rotation_deg": self.rotation_deg,
+                "dx_mm": self.dx_mm,
+                "dy_mm": self.dy_mm,
+            },
+            "outlier_indices": self.outlier_indices,
+            "profile_error": self.profile_error,
+        }
+
+
+@dataclass(frozen=True)
+class SimulatedScan:
+    """A simulated CMM scan and its truth.
+
+    Attributes
+    ----------
+    x_mm, y_mm : ndarray
+        Points in the CMM frame (stylus centres when the stylus radius > 0). [mm]
+    param_rad : ndarray
+        Profile parameter of each point. [rad]
+    true_dn_um : ndarray
+        Noise-free normal deviation of each point: the error itself for a normal error,
+        0 without an error, NaN for a radial error (its exact normal deviation is not
+        a closed form). [µm]
+    truth : ScanTruth
+        The parameters.
+    """
+
+    x_mm: FloatArray
+    y_mm: FloatArray
+    param_rad: FloatArray
+    true_dn_um: FloatArray
+    truth: ScanTruth
+
+
+def simulate_scan(
+    design: CamDesign,
+    *,
+    cam: CamLabel = "A",
+    points: int = 3600,
+    noise_um: float = 1.0,
+    seed: int = 0,
+    stylus_radius_mm: float = 0.0,
+    eccentricity_um: float = 0.0,
+    eccentricity_deg: float = 0.0,
+    rotation_deg: float = 0.0,
+    outliers: int = 0,
+    outlier_um: float = 100.0,
+    profile_error: FourierError | None = None,
+    error_kind: ErrorKind = "radial",
+) -> SimulatedScan:
+    """Simulate a CMM scan of a cam with a known profile error (see the module notes).
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (for a conjugate pair, the pair).
+    cam : {"A", "B"}
+        Which cam.
+    points : int
+        Profile points, equally spaced in the profile parameter.
+    noise_um : float
+        Standard deviation of the probe noise along the normal. [µm]
+    seed : int
+        Random seed (noise, outliers).
+    stylus_radius_mm : float
+        Ball radius; > 0 writes ball centres, r outside the surface. [mm]
+    eccentricity_um, eccentricity_deg : float
+        Placement offset of the cam centre in the CMM frame: magnitude and direction.
+        [µm, deg]
+    rotation_deg : float
+        Placement rotation of the cam frame in the CMM frame. [deg]
+    outliers : int
+        Points moved off the surface by ±(0.5..1) × ``outlier_um`` along the normal.
+    outlier_um : float
+        Outlier size. [µm]
+    profile_error : FourierError, optional
+        The cam's profile error Δ(θ) (mm), along O2A (``radial``) or the normal.
+    error_kind : {"radial", "normal"}
+        How ``profile_error`` is applied.
+
+    Returns
+    -------
+    SimulatedScan
+    """
+    for name, value in (("noise_um", noise_um), ("stylus_radius_mm", stylus_radius_mm)):
+        if not (math.isfinite(value) and value >= 0):
+            raise DesignError(f"{name}={value!r} is not allowed; give a number ≥ 0")
+    if not isinstance(points, int) or points < MIN_POINTS:
+        raise DesignError(f"points={points!r} is not allowed; give an integer ≥ {MIN_POINTS}")
+    if not isinstance(outliers, int) or not 0 <= outliers <= points // 10:
+        raise DesignError(
+            f"outliers={outliers!r} is not allowed; give an integer from 0 to {points // 10}"
+        )
+    if error_kind not in ("radial", "normal"):
+        raise DesignError(f"error kind {error_kind!r} is not allowed; use radial or normal")
+    prof = cam_profile(design, cam)
+    shape = AnalyticShape(
+        prof.mechanism,
+        prof.design.program,
+        radial_error=profile_error if error_kind == "radial" else None,
+        normal_error=profile_error if error_kind == "normal" else None,
+    )
+    t = np.linspace(0.0, 2 * math.pi, points, endpoint=False)
+    px, py = shape.jets(t)
+    speed = np.hypot(px.d1, py.d1)
+    nx, ny = py.d1 / speed, -px.d1 / speed  # outward: the tangent turned clockwise
+    rng = np.random.default_rng(seed)
+    off = stylus_radius_mm + rng.normal(0.0, noise_um * 1e-3, points)
+    bad = (
+        np.sort(rng.choice(points, size=outliers, replace=False)) if outliers else np.zeros(0, int)
+    )
+    off[bad] += (
+        rng.choice([-1.0, 1.0], bad.size) * rng.uniform(0.5, 1.0, bad.size) * outlier_um * 1e-3
+    )
+    x, y = px.v + off * nx, py.v + off * ny
+    phi = math.radians(rotation_deg)
+    dx = eccentricity_um * 1e-3 * math.cos(math.radians(eccentricity_deg))
+    dy = eccentricity_um * 1e-3 * math.sin(math.radians(eccentricity_deg))
+    c, s = math.cos(phi), math.sin(phi)
+    xm, ym = c * x - s * y + dx, s * x + c * y + dy
+    if profile_error is None:
+        true_dn = np.zeros(points)
+    elif error_kind == "normal":
+        true_dn = profile_error(t).v * 1e3
+    else:
+        true_dn = np.full(points, np.nan)
+    truth = ScanTruth(
+        design=design.name,
+        cam=prof.label,
+        points=points,
+        noise_um=noise_um,
+        seed=seed,
+        stylus_radius_mm=stylus_radius_mm,
+        rotation_deg=rotation_deg,
+        dx_mm=dx,
+        dy_mm=dy,
+        outlier_indices=[int(i) for i in bad],
+        profile_error=_error_json(profile_error, error_kind),
+    )
+    return SimulatedScan(xm, ym, t, true_dn, truth)
+
+
+def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
+    """Return the scan as a CMM point file (``x_mm,y_mm``, comments with the stylus radius).
+
+    Parameters
+    ----------
+    scan : SimulatedScan
+        The simulated scan.
+    command : str
+        The command line that made it, for the header comment.
+    """
+    tr = scan.truth
+    head = [
+        f"# camtol simulated CMM scan of cam {tr.cam} of {tr.design!r}"
+        + (f": {command}" if command else ""),
+        f"# {tr.points} points; probe noise {tr.noise_um:g} um; seed {tr.seed}",
+    ]
+    if tr.stylus_radius_mm > 0:
+        head.append(
+            f"# stylus-ball centres: inspect with --stylus-radius-mm {tr.stylus_radius_mm:g}"
+        )
+    head.append("x_mm,y_mm")
+    body = "\n".join(
+        f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
+    )
+    return "\n".join(head) + "\n" + body + "\n"
+
+
+def fixture_delta_f(
+    design: CamDesign,
+    error_a: FourierError | None,
+    error_b: FourierError | None,
+    errors: FixtureErrors | None = None,
+    *,
+    error_kind: ErrorKind = "radial",
+    step_deg: float = 0.1,
+) -> ErrorFunction:
+    """Δf(θ) the fixture reads on cams with the given profile errors (exact, THEORY §5).
+
+    Parameters
+    ----------
+    design : CamDesign
+        A conjugate design.
+    error_a, error_b : FourierError or None
+        Profile errors of cams A and B (mm) as in :func:`simulate_scan`.
+    errors : FixtureErrors, optional
+        Constant errors of the fixture's follower (arm lengths, roller radii, η).
+    error_kind : {"radial", "normal"}
+        How the errors are applied.
+    step_deg : float
+        Grid of the exact simulation; Δf is interpolated linearly between. [deg]
+
+    Returns
+    -------
+    ErrorFunction
+        Δf(θ) in µm, ready for :func:`camtol.inspection.simulate_record`.
+    """
+    from camtol.mechanisms.conjugate import ConjugatePair
+
+    pair = design.mechanism
+    if not isinstance(pair, ConjugatePair):
+        raise DesignError(f"follower.type={pair.kind!r}: the fixture needs a conjugate design")
+    radial = error_kind == "radial"
+    sa = AnalyticShape(
+        pair.cam_a,
+        design.program,
+        radial_error=error_a if radial else None,
+        normal_error=None if radial else error_a,
+    )
+    sb = AnalyticShape(
+        pair.cam_b,
+        design.program,
+        radial_error=error_b if radial else None,
+        normal_error=None if radial else error_b,
+    )
+    n = int(round(360.0 / step_deg))
+    theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    res = simulate_fixture(
+        theta, sa, sb, Fixture.of(pair, errors), initial_angle_rad=pair.initial_angle_rad
+    )
+    df = res.extras["delta_f_mm"] * 1e3
+    return ErrorFunction.table(np.degrees(theta), df, name="simulated fixture Δf")
+
+
+def error_from_truth(
+    truth: dict[str, Any], *, source: str = "truth"
+) -> tuple[FourierError, ErrorKind]:
+    """Return the profile error of a ``scan.truth.json`` (as written by :func:`simulate_scan`).
+
+    Parameters
+    ----------
+    truth : dict
+        The parsed JSON.
+    source : str
+        File name for messages.
+
+    Returns
+    -------
+    (FourierError, str)
+        The error (mm) and its kind (``radial`` or ``normal``).
+
+    Raises
+    ------
+    InputFileError
+        If ``profile_error`` is missing or malformed.
+    """
+    from camtol.exceptions import InputFileError
+
+    pe = truth.get("profile_error") if isinstance(truth, dict) else None
+    try:
+        assert isinstance(pe, dict)
+        kind = pe.get("kind", "radial")
+        assert kind in ("radial", "normal")
+        mean = float(pe.get("mean_um", 0.0))
+        cos = [float(v) for v in pe.get("cos_um", [])]
+        sin = [float(v) for v in pe.get("sin_um", [])]
+    except (AssertionError, TypeError, ValueError):
+        raise InputFileError(
+            f"{source}: 'profile_error' must hold kind (radial/normal), mean_um, cos_um, sin_um"
+        ) from None
+    err = FourierError(mean * 1e-3, tuple(c * 1e-3 for c in cos), tuple(s * 1e-3 for s in sin))
+    return err, kind

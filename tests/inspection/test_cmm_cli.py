@@ -1,0 +1,352 @@
+"""`camtol inspect`, `camtol simulate cmm|record`, `camtol conjugate --cmm-a/--cmm-b` (issue 12)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from camtol.cli import main
+from camtol.config import load_example
+from camtol.inspection import acceptance_bands, conjugate_factors
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def scan_b(tmp_path_factory) -> Path:  # type: ignore[no-untyped-def]
+    p = tmp_path_factory.mktemp("scan") / "b.csv"
+    code = main(
+        [
+            "simulate",
+            "cmm",
+            "--example",
+            "cw11-experiment",
+            "-o",
+            str(p),
+            "--cam",
+            "B",
+            "--noise-um",
+            "1",
+            "--seed",
+            "3",
+            "--stylus-radius-mm",
+            "1",
+            "--eccentricity-um",
+            "40",
+            "--rotation-deg",
+            "10",
+            "--outliers",
+            "4",
+            "--error-rms-um",
+            "50",
+        ]
+    )
+    assert code == 0
+    return p
+
+
+def test_simulate_writes_scan_and_truth(scan_b: Path) -> None:
+    truth = json.loads(scan_b.with_name("b.truth.json").read_text())
+    assert truth["placement"] == {"rotation_deg": 10.0, "dx_mm": 0.04, "dy_mm": 0.0}
+    assert len(truth["outlier_indices"]) == 4 and truth["stylus_radius_mm"] == 1.0
+    assert truth["profile_error"]["kind"] == "radial"
+    lines = [ln for ln in scan_b.read_text().splitlines() if not ln.startswith("#")]
+    assert lines[0] == "x_mm,y_mm" and len(lines) == 3601
+
+
+def test_inspect_json_curves_motion(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    curves, motion = tmp_path / "c.csv", tmp_path / "m.csv"
+    code, out, err = _run(
+        capsys,
+        "inspect",
+        "--example",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--stylus-radius-mm",
+        "1",
+        "--json",
+        "--curves",
+        str(curves),
+        "--motion",
+        str(motion),
+    )
+    assert code == 0, err
+    data = json.loads(out)
+    truth = json.loads(scan_b.with_name("b.truth.json").read_text())
+    assert data["verdict"] == "pass"
+    for key in ("rotation_deg", "dx_mm", "dy_mm", "u_rotation_deg", "u_dx_mm", "u_dy_mm"):
+        assert key in data["registration"]
+    assert data["outliers"] == {"count": 4, "indices": truth["outlier_indices"]}
+    for key in ("form_um", "max_dn_um", "min_dn_um", "failing_intervals_deg", "motion"):
+        assert key in data
+    assert data["motion"]["unit"] == "deg"
+    assert data["motion"]["max_abs_dS_measured"] == pytest.approx(
+        data["motion"]["max_abs_dS_linear"], rel=0.01
+    )
+    assert "hides eccentricity" in err  # the best-fit warning
+    with curves.open() as fh:
+        rows = list(csv.reader(ln for ln in fh if not ln.startswith("#")))
+    assert rows[0] == ["x_mm", "y_mm", "theta_deg", "dn_um", "dr_um"] and len(rows) == 3601
+    with motion.open() as fh:
+        head = next(csv.reader(ln for ln in fh if not ln.startswith("#")))
+    assert head == ["theta_deg", "dS_measured_deg", "dS_linear_deg"]
+
+
+def test_inspect_fails_with_exit_1_and_angles(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    plot, report = tmp_path / "p.png", tmp_path / "r.html"
+    code, out, _ = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--stylus-radius-mm",
+        "1",
+        "--tolerance-um",
+        "-20,20",
+        "--plot",
+        str(plot),
+        "--report",
+        str(report),
+    )
+    assert code == 1
+    assert "verdict: FAIL" in out and "outside at polar angles" in out
+    assert plot.stat().st_size > 10_000 and "<svg" in report.read_text()
+
+
+def test_inspect_bore_datum(capsys, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    # A scan with bore points (flagged bore=1) placed off-centre by 0.3 mm: the bore datum
+    # finds the centre from the bore circle; no best-fit warning.
+    from camtol.inspection.twin import simulate_scan
+
+    d = load_example("roller-translating")
+    sim = simulate_scan(
+        d, points=720, noise_um=0.5, seed=1, eccentricity_um=300.0, eccentricity_deg=45.0
+    )
+    ang = np.linspace(0, 2 * math.pi, 60, endpoint=False)
+    bx, by = sim.truth.dx_mm + 10 * np.cos(ang), sim.truth.dy_mm + 10 * np.sin(ang)
+    p = tmp_path / "bore.csv"
+    rows = [f"{x:.9f},{y:.9f},0" for x, y in zip(sim.x_mm, sim.y_mm, strict=True)]
+    rows += [f"{x:.9f},{y:.9f},1" for x, y in zip(bx, by, strict=True)]
+    p.write_text("X,Y,bore\n" + "\n".join(rows) + "\n")
+    code, out, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "roller-translating",
+        "--points",
+        str(p),
+        "--columns",
+        "X=x_mm,Y=y_mm",
+        "--datum",
+        "bore",
+        "--json",
+    )
+    assert code == 0, err
+    reg = json.loads(out)["registration"]
+    assert reg["dx_mm"] == pytest.approx(sim.truth.dx_mm, abs=1e-9)
+    assert reg["dy_mm"] == pytest.approx(sim.truth.dy_mm, abs=1e-9)
+    assert "hides eccentricity" not in err
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+def _circle_rows(n: int, r: float = 60.0) -> list[str]:
+    a = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    return [f"{r * math.cos(t):.6f},{r * math.sin(t):.6f}" for t in a]
+
+
+@pytest.mark.parametrize(
+    ("content", "needle"),
+    [
+        ("x_mm,y_mm\n" + "\n".join(_circle_rows(10)) + "\n", "at least 36 points"),
+        ("x_mm,y_mm\n" + "\n".join(_circle_rows(720)[:300]) + "\n", "do not go round the cam"),
+        ("x_mm,y_um\n" + "\n".join(_circle_rows(100)) + "\n", "mixed units"),
+        ("x_mm,y_mm\n" + "\n".join(_circle_rows(100)) + "\nnan,1.0\n", "line 102"),
+        ("x_mm,y_mm\n1,2\n" + "\n".join(_circle_rows(100)) + "\n1,2\n", "duplicate point"),
+        ("x,y\n" + "\n".join(_circle_rows(100)) + "\n", "has no unit"),
+    ],
+)
+def test_bad_scan_exit_2_one_line_nothing_written(
+    capsys, tmp_path: Path, content: str, needle: str
+) -> None:  # type: ignore[no-untyped-def]
+    p = _write(tmp_path / "scan.csv", content)
+    curves = tmp_path / "c.csv"
+    code, out, err = _run(
+        capsys, "inspect", "-e", "cw11-experiment", "--points", str(p), "--curves", str(curves)
+    )
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0] and str(p) in lines[0]
+    assert not curves.exists() and out == ""
+
+
+def test_scan_of_the_wrong_cam_is_refused(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    # Cam B's scan inspected as a roller-translating design's cam: far beyond any tolerance.
+    code, _, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "roller-translating",
+        "--points",
+        str(scan_b),
+        "--stylus-radius-mm",
+        "1",
+    )
+    assert code == 2
+    assert "is this a scan of that cam?" in err and len(err.strip().splitlines()) == 1
+
+
+def test_table2_band_widths_from_the_constants() -> None:
+    # THEORY §8.4: from the Table 2 constants alone, A(u) − A(l) = 338.85 µm at 216.4° and
+    # B(u) − B(l) = 335.17 µm at 219.3° (±220 µm tolerance, zero masters). The chapter
+    # prints two decimals (truncated: 335.1786 reads 335.17), hence abs=0.01 µm.
+    d = load_example("cw11-experiment")
+    spec = d.inspection
+    assert spec is not None
+    fac = conjugate_factors(np.radians([216.4, 219.3]), d)
+    b = acceptance_bands(
+        fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
+    )
+    assert b.df_a_upper_um[0] - b.df_a_lower_um[0] == pytest.approx(338.85, abs=0.01)
+    assert b.df_b_upper_um[1] - b.df_b_lower_um[1] == pytest.approx(335.17, abs=0.01)
+
+
+def test_item5_fixture_estimates_agree_with_cmm_on_simulated_parts(capsys, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    # The paper's loop (issue 12 item 5) on simulated parts: scans of both cams with known
+    # errors (rms 120 and 90 µm), a fixture record of the same parts (Table 2 follower,
+    # 10 revolutions, 2 µm indicator noise); each cam estimated from the record with the
+    # other's CMM error as master agrees with its CMM error to within twice the
+    # per-sample record noise: the mean of 10 revolutions leaves 0.63 µm of it, the rest
+    # is the linearisation of eqs. 14-21 at these error sizes (Δf_est differs from the
+    # exact twin by about 1.6 µm rms; the paper reports 2.75 µm for Δf_est − Δf_mea).
+    a, b, rec = tmp_path / "a.csv", tmp_path / "b.csv", tmp_path / "rec.csv"
+    for cam, path, rms, seed in (("A", a, "120", "1"), ("B", b, "90", "2")):
+        assert (
+            main(
+                [
+                    "simulate",
+                    "cmm",
+                    "-e",
+                    "cw11-experiment",
+                    "-o",
+                    str(path),
+                    "--cam",
+                    cam,
+                    "--error-rms-um",
+                    rms,
+                    "--seed",
+                    seed,
+                    "--noise-um",
+                    "1",
+                ]
+            )
+            == 0
+        )
+    assert (
+        main(
+            [
+                "simulate",
+                "record",
+                "-e",
+                "cw11-experiment",
+                "-o",
+                str(rec),
+                "--truth-a",
+                str(tmp_path / "a.truth.json"),
+                "--truth-b",
+                str(tmp_path / "b.truth.json"),
+                "--noise-um",
+                "2",
+            ]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    code, out, err = _run(
+        capsys,
+        "conjugate",
+        "-e",
+        "cw11-experiment",
+        "--record",
+        str(rec),
+        "--cmm-a",
+        str(a),
+        "--cmm-b",
+        str(b),
+        "--cmm-datum",
+        "centre:0,0,0",
+        "--json",
+    )
+    assert code in (0, 1), err
+    s = json.loads(out)["cmm_comparison"]
+    assert s["rms_dr_A_cmm_um"] == pytest.approx(120.0, rel=0.01)
+    assert s["rms_dr_B_cmm_um"] == pytest.approx(90.0, rel=0.01)
+    assert s["rms_dr_A_est_minus_cmm_um"] < 2.0 * 2
+    assert s["rms_dr_B_est_minus_cmm_um"] < 2.0 * 2
+    # the exact twin of the fixture from the two CMM profiles reproduces the record
+    assert s["rms_df_twin_minus_mea_um"] < 1.0
+    assert s["relative_deviation_df_est"] < 0.01
+
+
+def test_scan_of_the_other_cam_of_a_pair_is_named(capsys, scan_b: Path) -> None:  # type: ignore[no-untyped-def]
+    code, _, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "A",
+        "--stylus-radius-mm",
+        "1",
+    )
+    assert code == 2
+    assert "it matches cam B: use --cam B" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cmm_options_bad_input(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    code, _, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--cmm-a", str(scan_b))
+    assert code == 2 and "--cmm-a and --cmm-b go together" in err
+    code, _, err = _run(
+        capsys, "inspect", "-e", "cw11-experiment", "--points", str(scan_b), "--datum", "centre:1,x"
+    )
+    assert code == 2 and "--datum" in err and len(err.strip().splitlines()) == 1
+    code, _, err = _run(
+        capsys, "inspect", "-e", "roller-translating", "--points", str(scan_b), "--cam", "B"
+    )
+    assert code == 2 and "cam B exists only for a conjugate pair" in err
+    out = tmp_path / "r.csv"
+    code, _, err = _run(
+        capsys,
+        "simulate",
+        "record",
+        "-e",
+        "roller-translating",
+        "-o",
+        str(out),
+        "--truth-a",
+        str(scan_b.with_name("b.truth.json")),
+        "--truth-b",
+        str(scan_b.with_name("b.truth.json")),
+    )
+    assert code == 2 and "conjugate" in err and not out.exists()

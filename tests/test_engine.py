@@ -1,0 +1,154 @@
+"""The single-pass engine, curves computed on read and the extremes refinement (issue 8).
+
+These check results, not speed (speed is measured by bench/run.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from camtol.analysis import analyse
+from camtol.config import example_names, load_example
+from camtol.engine import evaluate_engine
+from camtol.errors import error_analysis
+from camtol.extremes import find_extremes
+from camtol.kinematics import analysis_grid, kinematics
+
+EXAMPLES = example_names()
+FIELDS = (
+    "lift",
+    "velocity",
+    "acceleration",
+    "jerk",
+    "contact_x_mm",
+    "contact_y_mm",
+    "radius_mm",
+    "centre_x_mm",
+    "centre_y_mm",
+    "q_mm",
+    "pressure_angle_rad",
+    "shift_angle_rad",
+    "curvature_radius_mm",
+    "face_contact_mm",
+    "follower_angle_rad",
+)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_chunks_change_nothing(name: str) -> None:
+    design = load_example(name)
+    theta, left = analysis_grid(1.0, design.program.boundaries_rad)
+    k1, s1 = evaluate_engine(design, theta, left, chunk=10**9)
+    k2, s2 = evaluate_engine(design, theta, left, chunk=37)  # many uneven chunks
+    for f in FIELDS:
+        a, b = getattr(k1, f), getattr(k2, f)
+        assert (a is None) == (b is None), f
+        if a is not None:
+            np.testing.assert_array_equal(a, b, err_msg=f)  # elementwise formulas: exact
+    assert s1.keys() == s2.keys()
+    for key in s1:
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_array_equal(getattr(s1[key], part), getattr(s2[key], part))
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_engine_agrees_with_kinematics_and_error_analysis(name: str) -> None:
+    design = load_example(name)
+    theta, left = analysis_grid(0.5, design.program.boundaries_rad)
+    kin, sens = evaluate_engine(design, theta, left, chunk=500)
+    ref = kinematics(design, theta, left_limit=left)
+    for f in FIELDS:
+        a, b = getattr(kin, f), getattr(ref, f)
+        assert (a is None) == (b is None), f
+        if a is not None:  # jets and plain arrays: the same values to rounding
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12, err_msg=f)
+    tols = design.resolve_tolerances(60.0)
+    err = error_analysis(design, tols, theta, left_limit=left)
+    for tol in tols:
+        src = err.sources[tol.key]
+        for part, arr in (("v", src.sensitivity), ("d1", src.sensitivity_d1)):
+            np.testing.assert_allclose(
+                getattr(sens[tol.key], part) + 0 * arr, arr, rtol=1e-11, atol=1e-11
+            )
+
+
+def test_constant_quantities_are_broadcast_not_stored() -> None:
+    design = load_example("cw06-translating")  # constant pressure angle φ = 15°
+    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
+    kin, sens = evaluate_engine(design, theta, left, chunk=1000)
+    assert kin.pressure_angle_rad.strides == (0,)
+    assert kin.pressure_angle_rad.shape == theta.shape
+    assert kin.pressure_angle_rad[0] == pytest.approx(math.radians(15.0))
+    assert sens["e"].v.strides == (0,) and sens["e"].d1.strides == (0,)
+
+
+def test_curves_are_display_conversions_of_internal_results() -> None:
+    a = analyse(load_example("cw06-translating"), step_deg=1.0)
+    assert list(a.curves) == list(dict.fromkeys(a.curves))  # keys once each
+    assert {q.key for q in a.quantities} <= set(a.curves)
+    src = a.errors.sources["phi"]
+    np.testing.assert_allclose(a.curves["dS_phi"], src.sensitivity * src.deviation * 1e3)
+    np.testing.assert_allclose(a.curves["dS_worst"], a.errors.worst_lift * 1e3)
+    worst = sum(np.abs(s.delta_acceleration) for s in a.errors.sources.values())
+    np.testing.assert_allclose(a.errors.worst_acceleration, worst, rtol=1e-15)
+    rms = np.sqrt(sum(s.delta_velocity**2 for s in a.errors.sources.values()))
+    np.testing.assert_allclose(a.errors.rms_velocity, rms, rtol=1e-15)
+    with pytest.raises(KeyError):
+        a.curves["nope"]
+
+
+def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
+    # A smooth maximum, a kink minimum |sin| and a one-sided maximum at a jump, from a
+    # 1° grid: located to 1e-3° (step/1000) or better.
+    t_max, t_kink = 1.23456, 4.56789
+
+    def f(t: np.ndarray) -> dict[str, np.ndarray]:
+        jump = np.where(np.mod(t, 2 * math.pi) < 2.0, np.mod(t, 2 * math.pi), 0.0)
+        return {"smooth": np.cos(t - t_max), "kink": np.abs(np.sin(t - t_kink)), "jump": jump}
+
+    theta = np.radians(np.arange(0.0, 361.0))
+    ext = find_extremes(theta, f(theta), f, step_deg=1.0)
+    assert ext["smooth"][0].theta_deg == pytest.approx(math.degrees(t_max), abs=1e-3)
+    assert ext["smooth"][0].value == pytest.approx(1.0, abs=1e-12)
+    kink = ext["kink"][1]
+    assert kink.value < 2e-5  # within step/1000 of the zero: |sin| <= 1.75e-5
+    assert min(abs(kink.theta_deg - math.degrees(t_kink) + k * 180) for k in (-1, 0, 1)) < 1e-3
+    # sup of θ on [0, 2) is approached from below: the grid's last sample before 2 rad,
+    # or a refined one at most step/1000 short of it
+    assert ext["jump"][0].value <= 2.0
+    assert ext["jump"][0].value > 2.0 - math.radians(1e-3)
+
+
+def test_max_radius_is_the_refined_radius_extreme() -> None:
+    from camtol.analysis import max_radius_mm
+
+    for name in ("cw06-translating", "roller-oscillating"):
+        design = load_example(name)
+        a = analyse(design)
+        assert a.max_radius_mm == pytest.approx(max_radius_mm(design), abs=1e-12)
+        assert a.max_radius_mm == pytest.approx(a.extremes["radius"][0].value, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["cw06-translating", "roller-oscillating"])
+def test_design_level_sources_go_through_the_engine(name: str) -> None:
+    from camtol.config import design_from_mapping, example_text
+    from camtol.examples import parse_toml
+
+    data = parse_toml(example_text(name), name)
+    data["tolerances"]["phase_deg"] = 0.01  # the cam's angular phase (camtol.sources)
+    design = design_from_mapping(data)
+    a = analyse(design, step_deg=1.0)
+    k = a.kinematics
+    ref = error_analysis(design, a.tolerances, k.theta_rad, left_limit=k.left_limit)
+    for key, src in ref.sources.items():
+        np.testing.assert_allclose(a.errors.sources[key].delta_lift, src.delta_lift, atol=1e-15)
+        np.testing.assert_allclose(
+            a.errors.sources[key].delta_acceleration, src.delta_acceleration, atol=1e-12
+        )
+    # ΔS_phase = −V·Δθ0 (camtol.sources)
+    np.testing.assert_allclose(
+        a.errors.sources["phase"].delta_lift, -k.velocity * math.radians(0.01), atol=1e-15
+    )
