@@ -78,6 +78,28 @@ def inspection_options(f: F) -> F:
         click.option(
             "--master-b", metavar="VALUE|FILE.csv|FORMULA", help="Radial error of master cam B."
         ),
+        click.option(
+            "--cmm-a",
+            metavar="SCAN.csv",
+            help="CMM scan of cam A (with --cmm-b), as for `camtol conjugate`: the CMM errors"
+            " become the masters.",
+        ),
+        click.option("--cmm-b", metavar="SCAN.csv", help="CMM scan of cam B (with --cmm-a)."),
+        click.option(
+            "--cmm-stylus-radius-mm",
+            "cmm_stylus_mm",
+            type=float,
+            default=0.0,
+            show_default=True,
+            help="Stylus radius of the CMM scans (0: surface points) [mm].",
+        ),
+        click.option(
+            "--cmm-datum",
+            default="fit",
+            show_default=True,
+            metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
+            help="Registration of the CMM scans (as `camtol inspect --datum`).",
+        ),
         decision_option,
     ]
     for option in reversed(options):
@@ -119,11 +141,9 @@ class FixtureRun:
         return all(v.passed for v in self.verdicts.values())
 
 
-def has_inspection_input(
-    df_mea: str | None, record_path: str | None, master_a: str | None, master_b: str | None
-) -> bool:
-    """Whether any inspection input was given on the command line."""
-    return any(x is not None for x in (df_mea, record_path, master_a, master_b))
+def has_inspection_input(*values: str | None) -> bool:
+    """Whether any inspection input (``--df-mea``, ``--record``, ...) was given."""
+    return any(x is not None for x in values)
 
 
 def run_fixture(
@@ -137,6 +157,10 @@ def run_fixture(
     decision: str,
     step_deg: float,
     command: str,
+    cmm_a: str | None = None,
+    cmm_b: str | None = None,
+    cmm_stylus_mm: float = 0.0,
+    cmm_datum: str = "fit",
 ) -> FixtureRun:
     """Apply the options to the design's [inspection] table and run the fixture analysis.
 
@@ -148,6 +172,8 @@ def run_fixture(
         The option values (see ``camtol conjugate --help``).
     drop_bad_revolutions : bool
         ``--drop-bad-revolutions``.
+    cmm_a, cmm_b, cmm_stylus_mm, cmm_datum
+        ``--cmm-a``, ``--cmm-b``, ``--cmm-stylus-radius-mm`` [mm], ``--cmm-datum``.
     decision : {"simple", "guard-band"}
         ``--decision``.
     step_deg : float
@@ -209,6 +235,21 @@ def run_fixture(
             read_indicator_csv(record_path), drop_bad_revolutions=drop_bad_revolutions
         )
         spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
+    if (cmm_a is None) != (cmm_b is None):
+        fail("--cmm-a and --cmm-b go together: give the scans of both cams")
+    if cmm_a is not None and cmm_b is not None:
+        from camtol.cli_inspect import cmm_pair_masters
+
+        spec, _ = cmm_pair_masters(
+            d,
+            spec,
+            cmm_a,
+            cmm_b,
+            stylus_radius_mm=cmm_stylus_mm,
+            datum_text=cmm_datum,
+            master_given=(master_a is not None, master_b is not None),
+            step_deg=step_deg,
+        )
     res = inspect_conjugate(d, spec, step_deg=step_deg)
     if processed is not None:
         from camtol.inspection.record import record_estimates

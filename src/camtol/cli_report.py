@@ -257,6 +257,10 @@ def report(
     drop_bad_revolutions: bool,
     master_a: str | None,
     master_b: str | None,
+    cmm_a: str | None,
+    cmm_b: str | None,
+    cmm_stylus_mm: float,
+    cmm_datum: str,
     decision: str,
     no_fail: bool,
     radius_table: bool,
@@ -272,7 +276,7 @@ def report(
 
     A measured conjugate pair gets an inspection report: the design's [inspection] table,
     with the same inputs as `camtol conjugate` (--df-mea, --record, --master-a/-b,
-    --decision). Exit status 1 when the inspected part fails (after the report is
+    --cmm-a/-b, --decision). Exit status 1 when the inspected part fails (after the report is
     written), 0 when it passes or when there is no measurement (a design-only report shows
     the design checks but never fails the command); --no-fail always exits 0 once the
     file is written. Traceability fields come from the design's [traceability] table or
@@ -290,7 +294,7 @@ def report(
         fixture = None
         if d.mechanism.kind == "conjugate" and (
             d.inspection is not None
-            or has_inspection_input(df_mea, record_path, master_a, master_b)
+            or has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b)
         ):
             from camtol.grid import check_step
             from camtol.inspection.fixture import MAX_FIXTURE_POINTS
@@ -306,14 +310,18 @@ def report(
                 decision=decision,
                 step_deg=step_deg,
                 command="report",
+                cmm_a=cmm_a,
+                cmm_b=cmm_b,
+                cmm_stylus_mm=cmm_stylus_mm,
+                cmm_datum=cmm_datum,
             )
             fixture = InspectionReport(run.inspection, run.spec, run.record, run.decision)
-        elif has_inspection_input(df_mea, record_path, master_a, master_b) or (
+        elif has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b) or (
             decision != "simple"
         ):
             fail(
-                f"follower.type={d.mechanism.kind!r}: --df-mea, --record, --master-a/-b and"
-                " --decision need a conjugate design (follower.type = 'conjugate')"
+                f"follower.type={d.mechanism.kind!r}: --df-mea, --record, --master-a/-b,"
+                " --cmm-a/-b, --decision need a conjugate design (follower.type = 'conjugate')"
             )
         given = {k: v for k, v in traceability.items() if v is not None}
         write_report(
