@@ -246,7 +246,7 @@ def acceptance_plot(
         if record is not None:
             arts.append(
                 ax.fill_between(
-                    t, mea - record.u_f_um, mea + record.u_f_um, color="0.45", alpha=0.35, lw=0,
+                    t, mea - record.u_f_um, mea + record.u_f_um, color="#fd8d3c", alpha=0.55, lw=0,
                     label="Δf_mea ± u_f",
                 )
             )  # fmt: skip

@@ -24,6 +24,7 @@ from camtol.report.qa import (
     TRACEABILITY_FIELDS,
     InspectionReport,
     OverallVerdict,
+    _where,
     overall_verdict,
     radius_table,
     radius_table_html,
@@ -215,7 +216,7 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
                     f" {_fmt(v.min_margin_um)} µm; a necessary condition, THEORY §4.3)."
                 )
             else:
-                where = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in v.failing_intervals_deg)
+                where = _where(v, shown=12)
                 items.append(
                     f'Fixture, cam {cam}: <span class="fail">FAILS</span> at θ = {_e(where)}'
                     f" (smallest margin {_fmt(v.min_margin_um)} µm, THEORY §4.3)."

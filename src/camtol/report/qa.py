@@ -122,8 +122,15 @@ class OverallVerdict:
         return self.status != "FAIL"
 
 
-def _where(v: CamVerdict) -> str:
-    return ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in v.failing_intervals_deg)
+def _where(v: CamVerdict, shown: int = 4) -> str:
+    """Failing stretches (intervals joined across gaps < 1°), at most ``shown`` of them."""
+    from camtol.inspection.acceptance import merge_intervals
+
+    spans = merge_intervals(v.failing_intervals_deg, 1.0)
+    text = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in spans[:shown])
+    if len(spans) > shown:
+        text += f" and {len(spans) - shown} more stretches"
+    return text
 
 
 def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVerdict:
@@ -157,9 +164,10 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
                 )
         ok = all(v.passed for v in fixture.inspection.verdicts.values())
         rule = decision_rule_text(fixture.decision).split(":")[0]
+        reasons.append(f"decision rule: {rule}")
         status = "PASS" if ok else "FAIL"
         return OverallVerdict(
-            status, True, f"{status}: {name}: " + "; ".join(reasons) + f" [{rule}]", tuple(reasons)
+            status, True, f"{status}: {name}: " + "; ".join(reasons), tuple(reasons)
         )
     limit = a.design.pressure_angle_limit_deg
     pa = float(np.degrees(np.max(np.abs(a.kinematics.pressure_angle_rad))))
