@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report._figstyle import _axes, _stamp
+from camtol.report._figstyle import _axes, _legend_outside, _stamp
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -106,7 +106,7 @@ def cam_plot(design: CamDesign, theta_deg: float, ax: Axes | None = None) -> lis
     ax.set_ylabel("Y [mm]")
     ax.set_title(f"{design.name}: follower at θ = {float(theta_deg):g}° (cam frame)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    ax.legend(loc="best", fontsize="small")
+    _legend_outside(ax)
     _stamp(ax, design.name, made_here)
     return arts
 
