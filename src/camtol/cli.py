@@ -343,7 +343,7 @@ def _register_subcommands() -> None:
     LAZY_COMMANDS["report"] = (
         "camtol.cli_report",
         "report",
-        "Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.",
+        "Write a self-contained HTML report: verdict, inputs, conventions, extremes, figures.",
     )
     LAZY_COMMANDS["verify"] = (
         "camtol.cli_verify",

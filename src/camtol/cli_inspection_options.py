@@ -38,7 +38,18 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 
 def decision_option(f: F) -> F:
-    """Add ``--decision simple|guard-band`` (ISO 14253-1) to a command."""
+    """Add ``--decision simple|guard-band`` (ISO 14253-1) to a command.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option.
+    """
     return click.option(
         "--decision",
         type=click.Choice(["simple", "guard-band"]),
@@ -51,7 +62,20 @@ def decision_option(f: F) -> F:
 
 
 def inspection_options(f: F) -> F:
-    """Add the inspection inputs of ``camtol conjugate`` to a command (for ``report``)."""
+    """Add the inspection inputs of ``camtol conjugate`` to a command (for ``report``).
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with ``--df-mea``, ``--record``, ``--drop-bad-revolutions``,
+        ``--master-a/-b``, ``--cmm-a/-b``, ``--cmm-stylus-radius-mm``, ``--cmm-datum``
+        and ``--decision``.
+    """
     options = [
         click.option(
             "--df-mea",
@@ -172,8 +196,14 @@ def run_fixture(
         The option values (see ``camtol conjugate --help``).
     drop_bad_revolutions : bool
         ``--drop-bad-revolutions``.
-    cmm_a, cmm_b, cmm_stylus_mm, cmm_datum
-        ``--cmm-a``, ``--cmm-b``, ``--cmm-stylus-radius-mm`` [mm], ``--cmm-datum``.
+    cmm_a : str or None
+        ``--cmm-a``: CMM scan of cam A.
+    cmm_b : str or None
+        ``--cmm-b``: CMM scan of cam B.
+    cmm_stylus_mm : float
+        ``--cmm-stylus-radius-mm``. [mm]
+    cmm_datum : str
+        ``--cmm-datum``.
     decision : {"simple", "guard-band"}
         ``--decision``.
     step_deg : float

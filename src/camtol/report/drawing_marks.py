@@ -205,12 +205,33 @@ MARK_COLOURS: dict[str, tuple[int, str]] = {
 
 
 def xml_escape(text: str) -> str:
-    """Escape ``&``, ``<`` and ``>`` for SVG text."""
+    """Escape ``&``, ``<`` and ``>`` for SVG text.
+
+    Parameters
+    ----------
+    text : str
+        Plain text.
+
+    Returns
+    -------
+    str
+        The text, safe inside an XML element.
+    """
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 def add_dxf_marks(doc: Any, msp: Any, marks: DrawingMarks) -> None:
-    """Add the annotations to an ezdxf document: one layer each, MTEXT-free TEXT labels."""
+    """Add the annotations to an ezdxf document: one layer each, TEXT labels.
+
+    Parameters
+    ----------
+    doc : ezdxf Drawing
+        The document (its layer table gets the annotation layers).
+    msp : ezdxf Modelspace
+        Where the entities go.
+    marks : DrawingMarks
+        The annotations of :func:`drawing_marks`.
+    """
     for layer in marks.layers:
         if layer not in doc.layers:
             doc.layers.add(layer, color=MARK_COLOURS.get(layer, (7, ""))[0])
@@ -227,7 +248,18 @@ def add_dxf_marks(doc: Any, msp: Any, marks: DrawingMarks) -> None:
 
 
 def svg_marks(marks: DrawingMarks) -> list[str]:
-    """SVG groups of the annotations (one ``<g id=LAYER>`` each; SVG y = -Y)."""
+    """Render the annotations as SVG groups (one ``<g id=LAYER>`` each; SVG y = -Y).
+
+    Parameters
+    ----------
+    marks : DrawingMarks
+        The annotations of :func:`drawing_marks`.
+
+    Returns
+    -------
+    list of str
+        One ``<g>`` element per layer.
+    """
     out: list[str] = []
     for layer in marks.layers:
         colour = MARK_COLOURS.get(layer, (7, "#000000"))[1]

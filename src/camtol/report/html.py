@@ -352,9 +352,12 @@ def report_html(
     figures: list[tuple[Any, str]] = [
         (
             analysis_figure(a),
-            "The cam and follower at the angle of the largest worst-case error; shift and"
-            " pressure angles; radial-error factor; displacement, velocity and acceleration"
-            " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
+            "The cam and follower at the angle of the largest worst-case error (with the"
+            " pitch curve of a roller); the nominal motion S, V, A, J (at the design speed"
+            " when given); shift and pressure angles with the pressure-angle limit;"
+            " radial-error factor; displacement errors per source with worst case and RMS;"
+            " velocity and acceleration errors per source inside their worst-case envelopes"
+            " (THEORY §1-3, CW06 Figs. 4-9).",
         )
     ]
     if fixture is not None:
@@ -414,7 +417,11 @@ def write_report(
         A design (analysed with the default 0.1° step) or a finished analysis.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
-    fixture, traceability, radius_table_appendix
+    fixture : InspectionReport or None, optional
+        As for :func:`report_html`.
+    traceability : dict of str to str, optional
+        As for :func:`report_html`.
+    radius_table_appendix : bool
         As for :func:`report_html`.
 
     Returns

@@ -24,7 +24,20 @@ _DXF_COLOURS = {"PROFILE": 7, "PITCH_CURVE": 3, "CUTTER_PATH": 1}
 
 
 def dxf_bytes(points: ProfilePoints, marks: DrawingMarks) -> bytes:
-    """DXF R2013 in millimetres: a closed LWPOLYLINE per curve and the annotations."""
+    """Write DXF R2013 in millimetres: a closed LWPOLYLINE per curve and the annotations.
+
+    Parameters
+    ----------
+    points : ProfilePoints
+        The sampled curves.
+    marks : DrawingMarks
+        Timing mark, rotation, bore/hub and labels.
+
+    Returns
+    -------
+    bytes
+        The DXF file's content.
+    """
     from ezdxf.document import Drawing
     from ezdxf.filemanagement import new
 
@@ -58,7 +71,20 @@ _SVG_COLOURS_B = {"#000000": "#1f4e9c", "#2ca02c": "#17becf", "#d62728": "#c51b8
 
 
 def svg_text(points: ProfilePoints, marks: DrawingMarks) -> str:
-    """SVG in millimetres; y is flipped so the drawing looks as in the cam frame."""
+    """Write SVG in millimetres; y is flipped so the drawing looks as in the cam frame.
+
+    Parameters
+    ----------
+    points : ProfilePoints
+        The sampled curves.
+    marks : DrawingMarks
+        Timing mark, rotation, bore/hub and labels.
+
+    Returns
+    -------
+    str
+        The SVG document.
+    """
     from camtol import __version__
 
     xs = np.concatenate([c.x_mm for c in points.curves] + [p[1] for p in marks.polylines])

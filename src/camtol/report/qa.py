@@ -259,7 +259,20 @@ def radius_table(design: CamDesign, *, step_deg: float = 1.0) -> RadiusTable:
 
 
 def radius_table_html(table: RadiusTable, escape: Any) -> str:
-    """Render the radius table as a long HTML table (breaks between rows when printed)."""
+    """Render the radius table as a long HTML table (breaks between rows when printed).
+
+    Parameters
+    ----------
+    table : RadiusTable
+        From :func:`radius_table`.
+    escape : callable
+        HTML escaping of the header texts.
+
+    Returns
+    -------
+    str
+        The ``<table class="long radius-table">`` element.
+    """
     heads = ["polar angle [°]"] + [
         k.removesuffix("_mm").replace("_pitch", " pitch").replace("_", " ") + " [mm]"
         for k in table.columns
