@@ -69,7 +69,7 @@ def main() -> list[Figure]:
 
     def fast() -> np.ndarray:
         shape = PolygonShape(pts)  # fresh: the hull is built inside the timing
-        return follow_flat_translating(theta, shape, mech).lift  # type: ignore[arg-type]
+        return follow_flat_translating(shape, mech, theta).lift  # type: ignore[arg-type]
 
     phi, e = mech.face_angle_rad, mech.offset_mm  # type: ignore[attr-defined]
     zero = mech.base_radius_mm / math.cos(phi) - e * math.tan(phi)  # type: ignore[attr-defined]
@@ -102,13 +102,13 @@ def main() -> list[Figure]:
         th = np.linspace(0.0, 2.0 * math.pi, 3600, endpoint=False)
         shape = AnalyticShape(d.mechanism, d.program)
         shape.polygon  # noqa: B018  (sampling not timed)
-        t, _ = best_of(lambda: follow(th, shape, d.mechanism), 3)  # noqa: B023
+        t, _ = best_of(lambda: follow(shape, d.mechanism, th), 3)  # noqa: B023
         print(f"  {name}: exact motion on the analytic profile, 3600 angles: {t * 1e3:.1f} ms")
     # Informational: a roller needs the true distance (no hull); a CMM-sized measured cam.
     dc = load_example("cw11-conjugate")
     cam = AnalyticShape(dc.mechanism.cam_a, dc.program, samples=3600).polygon  # type: ignore[attr-defined]
     th = np.linspace(0.0, 2.0 * math.pi, 3600, endpoint=False)
-    t_r, _ = best_of(lambda: follow(th, cam, dc.mechanism), 1)
+    t_r, _ = best_of(lambda: follow(cam, dc.mechanism, th), 1)
     print(f"  oscillating roller on a 3600-point polygon, 3600 angles: {t_r * 1e3:.0f} ms")
     # Does a compiled inner loop earn its place? Time a numba brute force of the same max.
     try:

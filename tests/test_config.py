@@ -50,7 +50,7 @@ _DELETE = object()
         (
             "follower.base_radius_mm",
             -40.0,
-            r"follower.base_radius_mm=-40.0: Input should be greater than 0",
+            r"follower.base_radius_mm=-40.0: Input should be greater than or equal to 0.001",
         ),
         ("follower.base_radius_mm", _DELETE, r"follower.base_radius_mm is missing"),
         ("follower.type", "knife", r"follower.type='knife' is unknown; allowed: flat_translating"),

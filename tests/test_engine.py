@@ -39,7 +39,7 @@ FIELDS = (
 
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_chunks_change_nothing(name: str) -> None:
-    design = load_example(name)
+    design = load_example(name).cams()[0].design  # a conjugate pair: cam A
     theta, left = analysis_grid(1.0, design.program.boundaries_rad)
     k1, s1 = evaluate_engine(design, theta, left, chunk=10**9)
     k2, s2 = evaluate_engine(design, theta, left, chunk=37)  # many uneven chunks
@@ -56,7 +56,7 @@ def test_chunks_change_nothing(name: str) -> None:
 
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_engine_agrees_with_kinematics_and_error_analysis(name: str) -> None:
-    design = load_example(name)
+    design = load_example(name).cams()[0].design  # a conjugate pair: cam A
     theta, left = analysis_grid(0.5, design.program.boundaries_rad)
     kin, sens = evaluate_engine(design, theta, left, chunk=500)
     ref = kinematics(design, theta, left_limit=left)

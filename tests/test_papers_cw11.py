@@ -19,9 +19,10 @@ import pytest
 
 from camtol.cli import main
 from camtol.config import load_example
+from camtol.conjugate import conjugate_kinematics
 from camtol.inspection import conjugate_factors, conjugate_variation, inspect_conjugate
 from camtol.kinematics import analysis_grid
-from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
+from camtol.mechanisms.conjugate import ConjugatePair
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +55,7 @@ def test_base_circle_dwell_by_hand(design) -> None:  # type: ignore[no-untyped-d
     phi_a, phi_b = ang_c - math.pi / 2, ang_d - math.pi / 2
     alpha_a = math.pi - xi0 - ang_c
     alpha_b = math.pi - gam_b - ang_d
-    fac = conjugate_factors(np.radians([300.0, 340.0]), design)
+    fac = conjugate_factors(design, np.radians([300.0, 340.0]))
     assert fac.pressure_a_rad == pytest.approx(phi_a, abs=1e-12)
     assert fac.pressure_b_rad == pytest.approx(phi_b, abs=1e-12)
     assert fac.centre_line_a_rad == pytest.approx(alpha_a, abs=1e-12)
@@ -200,7 +201,7 @@ def test_cli_experiment_with_a_csv_record(
     d = load_example("cw11-experiment")
     spec = d.inspection
     th = np.radians(np.arange(0.0, 360.0, 0.1))
-    fac = conjugate_factors(th, d)
+    fac = conjugate_factors(d, th)
     dra = 100 * np.sin(th)
     rec_um = conjugate_variation(fac, dra, 0.0, spec.errors).df_est_um
     assert np.mean(rec_um) < -150  # the follower's errors shift Δf (mostly Δη = 0.275°)

@@ -118,7 +118,7 @@ def test_cams_drop_tolerances_a_cam_does_not_have() -> None:
 @pytest.mark.parametrize("name", example_names())
 def test_phase_closed_form_against_exact(name: str) -> None:
     """ΔS = −V·Δθ0 against S(θ − Δθ0) − S(θ): second-order remainder (halving → ¼)."""
-    design = load_example(name)
+    design = load_example(name).cams()[0].design  # a conjugate pair: cam A
     theta = np.radians(np.linspace(0.0, 359.9, 3600))
     phase = DESIGN_SOURCES["phase"]
     nominal = design.program.evaluate(theta).lift
@@ -172,3 +172,15 @@ def test_unknown_tolerance_key_lists_design_sources() -> None:
     design = load_example("roller-translating")
     with pytest.raises(DesignError, match="phase"):
         CamDesign("x", design.mechanism, design.program, (ToleranceSpec("zz", deviation=1.0),))
+
+
+def test_the_pair_is_not_a_single_cam() -> None:
+    """ConjugatePair no longer stands for cam A: single-contact evaluation goes by cams()."""
+    from camtol.kinematics import kinematics
+
+    design = load_example("cw11-conjugate")
+    theta = np.radians([10.0, 200.0])
+    with pytest.raises(DesignError, match="design.cams"):
+        kinematics(design, theta)
+    a, b = (kinematics(c.design, theta) for c in design.cams())
+    assert np.all(np.isfinite(a.pressure_angle_rad)) and np.all(np.isfinite(b.radius_mm))

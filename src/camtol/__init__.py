@@ -2,8 +2,8 @@
 
 The public API is small; everything else lives in its own module (see the README)::
 
-    from camtol import analyse, load_design, load_example
-    result = analyse(load_example("cw06-translating"))
+    from camtol import analyze, load_design, load_example
+    result = analyze(load_example("cw06-translating"))
 
 The names below are imported on first use (PEP 562 module ``__getattr__``), so that
 ``import camtol`` and ``camtol --help`` do not pay for numpy, scipy or pydantic.
@@ -25,7 +25,7 @@ from camtol.exceptions import (
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:  # pragma: no cover - what the lazy names resolve to, for type checkers
-    from camtol.analysis import Analysis, analyse
+    from camtol.analysis import Analysis, analyse, analyze
     from camtol.config import load_design, load_example
     from camtol.design import CamDesign, ToleranceSpec
     from camtol.examples import example_names
@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover - what the lazy names resolve to, for type
 _LAZY = {
     "Analysis": "camtol.analysis",
     "analyse": "camtol.analysis",
+    "analyze": "camtol.analysis",
     "CamDesign": "camtol.design",
     "ToleranceSpec": "camtol.design",
     "example_names": "camtol.examples",
@@ -52,6 +53,7 @@ __all__ = [
     "UndercutError",
     "__version__",
     "analyse",
+    "analyze",
     "example_names",
     "load_design",
     "load_example",

@@ -25,7 +25,15 @@ from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
 from camtol.motion import LiftTable
 
-__all__ = ["Analysis", "Curves", "Quantity", "analyse", "max_radius_mm"]
+__all__ = [
+    "Analysis",
+    "Curves",
+    "DisplayUnits",
+    "Quantity",
+    "analyse",
+    "analyze",
+    "max_radius_mm",
+]
 
 #: Default analysis grid step. [deg]
 DEFAULT_STEP_DEG = 0.1
@@ -70,6 +78,9 @@ class Analysis:
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
     notes : tuple of str
         What the user must know to trust the numbers (e.g. a lift table's precision).
+    other_cams : tuple of (str, Kinematics)
+        The kinematics of the design's further cams (cam B of a conjugate pair) on the
+        same grid, by label; see :meth:`cam_kinematics`.
     """
 
     design: CamDesign
@@ -84,11 +95,38 @@ class Analysis:
     travel: float
     accuracy: iso286.GradeBracket
     notes: tuple[str, ...] = ()
+    other_cams: tuple[tuple[str, Kinematics], ...] = ()
+
+    def cam_kinematics(self, label: str) -> Kinematics:
+        """Kinematics of one cam of the design on the analysis grid (:meth:`CamDesign.cams`).
+
+        Parameters
+        ----------
+        label : str
+            ``""`` or the first cam's label for :attr:`kinematics`; ``"B"`` for cam B of a
+            conjugate pair (in :attr:`other_cams`).
+
+        Returns
+        -------
+        Kinematics
+            That cam's kinematics (internal units).
+
+        Raises
+        ------
+        KeyError
+            If the design has no such cam.
+        """
+        for name, kin in self.other_cams:
+            if name == label:
+                return kin
+        if label in ("", self.design.cams()[0].label):
+            return self.kinematics
+        raise KeyError(f"cam {label!r} is not a cam of design {self.design.name!r}")
 
     @property
     def error_unit(self) -> str:
         """Display unit of ΔS: ``um`` (translating) or ``deg`` (oscillating)."""
-        return _units(self.design)[0]
+        return DisplayUnits.of(self.design).lift
 
     @property
     def travel_unit(self) -> str:
@@ -96,16 +134,49 @@ class Analysis:
         return "mm" if self.design.mechanism.output == "translating" else "deg"
 
 
-def _units(design: CamDesign) -> tuple[str, float, str, str, float, float]:
-    """(ΔS unit, scale from internal, ΔV unit, ΔA unit, ΔV scale, ΔA scale)."""
-    if design.mechanism.output == "translating":
-        unit, scale = "um", 1e3
-    else:
-        unit, scale = "deg", 180.0 / math.pi
-    omega = design.omega_rad_s
-    if omega is None:
-        return unit, scale, f"{unit}/rad", f"{unit}/rad2", scale, scale
-    return unit, scale, f"{unit}/s", f"{unit}/s2", scale * omega, scale * omega**2
+@dataclass(frozen=True)
+class DisplayUnits:
+    """Display units of the output errors and the factors from internal units.
+
+    Attributes
+    ----------
+    lift, velocity, acceleration : str
+        Unit keys of ΔS, ΔV, ΔA: ``um``, ``um/rad`` or ``um/s``, ``um/rad2`` or
+        ``um/s2`` for a translating follower; ``deg...`` for an oscillating one.
+    lift_scale, velocity_scale, acceleration_scale : float
+        Factors from the internal unit (mm or rad, per rad^k of cam angle) to those
+        units; with a cam speed ω they include ω and ω².
+    """
+
+    lift: str
+    velocity: str
+    acceleration: str
+    lift_scale: float
+    velocity_scale: float
+    acceleration_scale: float
+
+    @classmethod
+    def of(cls, design: CamDesign) -> DisplayUnits:
+        """Return the display units of a design's output errors.
+
+        Parameters
+        ----------
+        design : CamDesign
+            The design (its follower's output and its cam speed).
+
+        Returns
+        -------
+        DisplayUnits
+            µm or ° for ΔS; per rad, or per s when the design gives a speed.
+        """
+        if design.mechanism.output == "translating":
+            unit, scale = "um", 1e3
+        else:
+            unit, scale = "deg", 180.0 / math.pi
+        omega = design.omega_rad_s
+        if omega is None:
+            return cls(unit, f"{unit}/rad", f"{unit}/rad2", scale, scale, scale)
+        return cls(unit, f"{unit}/s", f"{unit}/s2", scale, scale * omega, scale * omega**2)
 
 
 def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> float:
@@ -126,6 +197,7 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> f
     float
         Largest radial dimension of the profile. [mm]
     """
+    design = design.cams()[0].design  # the first cam's (cam A's: the tolerances' cam)
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     r = kinematics(design, theta, left_limit=left, check=False).radius_mm
     return _refined_max_radius(design, theta, r, step_deg)
@@ -144,7 +216,8 @@ def _refined_max_radius(
 def _quantities(
     design: CamDesign, tolerances: tuple[ResolvedTolerance, ...]
 ) -> tuple[Quantity, ...]:
-    unit, _, vunit, aunit, _, _ = _units(design)
+    units = DisplayUnits.of(design)
+    unit, vunit, aunit = units.lift, units.velocity, units.acceleration
     mech = design.mechanism
     q = [
         Quantity("pressure_angle", "pressure angle φ", "deg"),
@@ -152,14 +225,10 @@ def _quantities(
         Quantity("radius", "radial dimension |O2A|", "mm"),
         Quantity("curvature_radius", "radius of curvature ρ", "mm"),
     ]
-    if mech.kind.startswith("flat"):
+    if mech.has_face:
         q.append(Quantity("face_contact", "contact on face u", "mm"))
-    if mech.output == "translating":
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / cos φ", "-"))
-    elif mech.kind.startswith("flat"):
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / u", "deg/mm"))
-    else:  # oscillating roller (THEORY §3.3)
-        q.append(Quantity("radial_factor", "ΔS_r/Δr = cos λ / (l cos φ)", "deg/mm"))
+    factor_unit = "-" if mech.output == "translating" else "deg/mm"
+    q.append(Quantity("radial_factor", mech.radial_factor_label, factor_unit))
     for t in tolerances:
         q.append(Quantity(f"dS_{t.key}", f"ΔS_{t.key} ({t.display})", unit))
     q += [
@@ -229,7 +298,8 @@ class Curves(Mapping[str, FloatArray]):
             return 1.0
         if key == "radial_factor":
             return 1.0 if self._design.mechanism.output == "translating" else deg
-        _, scale, _, _, vscale, ascale = _units(self._design)
+        u = DisplayUnits.of(self._design)
+        scale, vscale, ascale = u.lift_scale, u.velocity_scale, u.acceleration_scale
         prefix, name = key.split("_", 1)
         factor = (scale, vscale, ascale)["SVA".index(prefix[1])]
         if name in ("worst", "rms"):
@@ -311,8 +381,8 @@ def _extremes(
     return out
 
 
-def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
-    """Analyse a design: kinematics, per-source errors, worst case, RMS and extremes.
+def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysis:
+    """Analyze a design: kinematics, per-source errors, worst case, RMS and extremes.
 
     Parameters
     ----------
@@ -333,32 +403,35 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         The design cannot produce its motion.
     """
     check_step(step_deg, name="step_deg")
+    # The numbers are those of the design's first cam (cam A of a conjugate pair, whose
+    # further cams are in other_cams); the Analysis keeps the design itself.
+    cam = design.cams()[0].design
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     # One evaluation of the engine on the grid; it checks the geometry first, so an
     # invalid design fails before anything else.
-    kin, sens = evaluate_engine(design, theta, left, check=True)
+    kin, sens = evaluate_engine(cam, theta, left, check=True)
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
-    tolerances = design.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
+    tolerances = cam.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
         err = errors_from_sensitivities(theta, left, sens, tolerances)
-        curves = Curves(design, kin, err, sens["r"].v)
-        keys = [q.key for q in _quantities(design, tolerances)]
+        curves = Curves(cam, kin, err, sens["r"].v)
+        keys = [q.key for q in _quantities(cam, tolerances)]
 
         def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
-            k, s = evaluate_engine(design, t, check=False)
+            k, s = evaluate_engine(cam, t, check=False)
             e = errors_from_sensitivities(t, k.left_limit, s, tols)
-            return Curves(design, k, e, s["r"].v)
+            return Curves(cam, k, e, s["r"].v)
 
         extremes = _extremes(curves, keys, evaluate, theta, step_deg)
         rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
-        final = design.resolve_tolerances(rmax)
+        final = cam.resolve_tolerances(rmax)
         if [t.deviation for t in final] == [t.deviation for t in tolerances]:
             tolerances = final
             break
         tolerances = final  # the refined radius moved an IT grade to another size band
-    quantities = _quantities(design, tolerances)
+    quantities = _quantities(cam, tolerances)
     err = errors_from_sensitivities(theta, left, sens, tolerances)
-    curves = Curves(design, kin, err, sens["r"].v)
+    curves = Curves(cam, kin, err, sens["r"].v)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)
@@ -378,7 +451,16 @@ def analyse(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         travel,
         accuracy,
         _notes(design, kin),
+        tuple(
+            (c.label, kinematics(c.design, theta, left_limit=left, check=False))
+            for c in design.cams()[1:]
+        ),
     )
+
+
+#: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and
+#: of the ``camtol analyze`` command).
+analyse = analyze
 
 
 def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:

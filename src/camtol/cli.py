@@ -153,6 +153,11 @@ def design_options(f: F) -> F:
     return f
 
 
+#: Other spellings accepted on the command line and not listed in the help (issue 8: one
+#: spelling, ``analyze``, with the British ``analyse`` kept as an alias).
+COMMAND_ALIASES: dict[str, str] = {"analyse": "analyze"}
+
+
 class LazyGroup(click.Group):
     """A click group whose commands from other modules are imported only when run.
 
@@ -173,6 +178,7 @@ class LazyGroup(click.Group):
 
     def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
         """Return a command, importing its module the first time it is asked for."""
+        cmd_name = COMMAND_ALIASES.get(cmd_name, cmd_name)
         if cmd_name in self.lazy_commands and cmd_name not in self.commands:
             module, attr, _ = self.lazy_commands[cmd_name]
             self.add_command(getattr(importlib.import_module(module), attr), cmd_name)
@@ -295,10 +301,11 @@ def _json_default(o: Any) -> Any:
 
 
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
+    from camtol.drawing import analysis_drawing
     from camtol.report.files import atomic_output
     from camtol.report.plots import analysis_figure
 
-    fig = analysis_figure(analysis, cam_angle_deg=cam_angle_deg)
+    fig = analysis_figure(analysis, analysis_drawing(analysis, cam_angle_deg))
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
 

@@ -323,9 +323,16 @@ def report(
                 f"follower.type={d.mechanism.kind!r}: --df-mea, --record, --master-a/-b,"
                 " --cmm-a/-b, --decision need a conjugate design (follower.type = 'conjugate')"
             )
+        from camtol.drawing import analysis_drawing
+        from camtol.study import Study
+
         given = {k: v for k, v in traceability.items() if v is not None}
         write_report(
-            a, output, fixture=fixture, traceability=given, radius_table_appendix=radius_table
+            Study(a, analysis_drawing(a)),  # the fixture results are passed in below
+            output,
+            fixture=fixture,
+            traceability=given,
+            radius_table_appendix=radius_table,
         )
         verdict = overall_verdict(a, fixture)
         worst = a.extremes["dS_worst"][0]

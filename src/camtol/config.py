@@ -12,7 +12,7 @@ Schema (see ``camtol examples show cw06-translating`` for a complete file)::
     reference = "..."                    # optional source
 
     [follower]
-    type = "flat_translating"            # see FOLLOWER_SCHEMAS for the types
+    type = "flat_translating"            # see follower_types() for the types
     base_radius_mm = 40.0
     offset_mm = 10.0
     face_angle_deg = 15.0
@@ -43,11 +43,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    ValidationError,
+    create_model,
+    field_validator,
+)
 
 from camtol.design import CamDesign, ToleranceSpec
 from camtol.examples import example_names as example_names
@@ -55,7 +64,7 @@ from camtol.examples import example_summary as example_summary
 from camtol.examples import example_text as example_text
 from camtol.examples import parse_toml as _parse_toml
 from camtol.exceptions import ConfigError, DesignError, InputFileError
-from camtol.mechanisms import FlatOscillating, FlatTranslating, Mechanism
+from camtol.mechanisms import MECHANISMS, Mechanism
 from camtol.motion import (
     MOTION_LAWS,
     LiftTable,
@@ -71,7 +80,8 @@ if TYPE_CHECKING:
     from camtol.inspection.spec import FixtureSpec
 
 __all__ = [
-    "FOLLOWER_SCHEMAS",
+    "dump_design",
+    "follower_types",
     "design_from_mapping",
     "example_names",
     "example_text",
@@ -80,123 +90,117 @@ __all__ = [
 ]
 
 
+#: Plausible ranges of the design-level quantities (the follower's are declared by each
+#: follower class, :mod:`camtol.mechanisms.spec`). Values outside are refused with a
+#: message naming the field, so that no 1e300 reaches the numerics.
+SPEED_MAX_RPM = 1e6
+#: Largest lift of a translating follower's segment or table entry. [mm]
+LIFT_MAX_MM = 1e5
+#: Largest swing of an oscillating follower's segment or table entry. [deg]
+LIFT_MAX_DEG = 180.0
+#: Segment angles lie within ±this. [deg]
+ANGLE_MAX_DEG = 1e4
+#: Largest explicit length deviation in [tolerances]. [um]
+DEVIATION_MAX_UM = 1e6
+#: Largest explicit angle deviation in [tolerances]. [deg]
+DEVIATION_MAX_DEG = 90.0
+#: Longest value shown in a message (longer ones are shortened with "…"). [characters]
+VALUE_CHARS = 80
+#: Longest validation message (further problems are counted, not listed). [characters]
+MESSAGE_CHARS = 400
+
+_FINITE: dict[str, Any] = {"allow_inf_nan": False}
+
+
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # strict: a string is not a number, a boolean is not a length (issue 9 item 11)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
-# --- followers -------------------------------------------------------------------------
-class FlatTranslatingSchema(_Strict):
-    """``type = "flat_translating"``: offset translating oblique flat face (THEORY §2.1)."""
+def _number(lo: float, hi: float, description: str, *, open_low: bool = False) -> Any:
+    low: dict[str, Any] = {"gt": lo} if open_low else {"ge": lo}
+    return Annotated[float, Field(le=hi, description=description, **low, **_FINITE)]
 
-    type: Literal["flat_translating"]
-    base_radius_mm: float = Field(gt=0)
-    offset_mm: float = 0.0
-    face_angle_deg: float = Field(default=0.0, gt=-90, lt=90)
 
-    def build(self) -> Mechanism:
-        """Return the mechanism."""
-        return FlatTranslating(
-            self.base_radius_mm, self.offset_mm, math.radians(self.face_angle_deg)
+# --- followers: derived from the follower classes ---------------------------------------
+def _follower_model(cls: type[Mechanism]) -> type[BaseModel]:
+    """Build the pydantic model of one follower type from its Parameter declarations."""
+    fields: dict[str, Any] = {"type": (Literal[cls.kind], ...)}
+    for p in cls.parameters:
+        bounds: dict[str, Any] = (
+            {"gt": p.minimum, "lt": p.maximum}
+            if p.exclusive
+            else {"ge": p.minimum, "le": p.maximum}
         )
+        desc = f"{p.description}; {p.describe_range()}"
+        ann: Any = Annotated[float, Field(description=desc, **bounds, **_FINITE)]
+        if p.required:
+            fields[p.name] = (ann, ...)
+        elif p.default is None:
+            fields[p.name] = (ann | None, None)
+        else:
+            fields[p.name] = (ann, p.default)
+    doc = f"``type = {cls.kind!r}``: {cls.title or cls.__name__} follower."
+    model: type[BaseModel] = create_model(
+        f"{cls.__name__}Schema", __base__=_Strict, __doc__=doc, **fields
+    )
+    return model
 
 
-class FlatOscillatingSchema(_Strict):
-    """``type = "flat_oscillating"``: oscillating flat face (THEORY §2.2)."""
-
-    type: Literal["flat_oscillating"]
-    base_radius_mm: float = Field(gt=0)
-    pivot_distance_mm: float = Field(gt=0)
-    face_offset_mm: float = 0.0
-
-    def build(self) -> Mechanism:
-        """Return the mechanism."""
-        return FlatOscillating(self.base_radius_mm, self.pivot_distance_mm, self.face_offset_mm)
+@lru_cache(maxsize=8)
+def _follower_adapter(types: tuple[type[Mechanism], ...]) -> TypeAdapter[Any]:
+    models = tuple(_follower_model(c) for c in types)
+    union: Any = Union[models]  # noqa: UP007  (a runtime tuple of models)
+    return TypeAdapter(Annotated[union, Field(discriminator="type")])
 
 
-class RollerTranslatingSchema(_Strict):
-    """``type = "roller_translating"``: offset translating roller (THEORY §2.3)."""
+def follower_types() -> dict[str, type[Mechanism]]:
+    """Follower types a design file may name (``follower.type``), from the registry.
 
-    type: Literal["roller_translating"]
-    base_radius_mm: float = Field(gt=0)
-    roller_radius_mm: float = Field(gt=0)
-    offset_mm: float = 0.0
-
-    def build(self) -> Mechanism:
-        """Return the mechanism."""
-        from camtol.mechanisms.roller_translating import RollerTranslating
-
-        return RollerTranslating(self.base_radius_mm, self.roller_radius_mm, self.offset_mm)
-
-
-class RollerOscillatingSchema(_Strict):
-    """``type = "roller_oscillating"``: oscillating roller, cam A alone (THEORY §2.4)."""
-
-    type: Literal["roller_oscillating"]
-    base_radius_mm: float = Field(gt=0)
-    roller_radius_mm: float = Field(gt=0)
-    pivot_distance_mm: float = Field(gt=0)
-    arm_length_mm: float = Field(gt=0)
-
-    def build(self) -> Mechanism:
-        """Return the mechanism."""
-        from camtol.mechanisms.roller_oscillating import RollerOscillating
-
-        return RollerOscillating(
-            self.base_radius_mm, self.roller_radius_mm, self.pivot_distance_mm, self.arm_length_mm
-        )
-
-
-class ConjugateSchema(_Strict):
-    """``type = "conjugate"``: conjugate cams A and B, double-roller follower (THEORY §2.4).
-
-    The fixture data of ``camtol conjugate`` go in the ``[inspection]`` table
-    (:mod:`camtol.inspection.spec`).
+    Returns
+    -------
+    dict of str to type
+        :data:`camtol.mechanisms.MECHANISMS` restricted to types with file parameters.
     """
-
-    type: Literal["conjugate"]
-    base_radius_mm: float = Field(gt=0)
-    roller_radius_mm: float = Field(gt=0)
-    roller_b_radius_mm: float | None = Field(default=None, gt=0)
-    pivot_distance_mm: float = Field(gt=0)
-    arm_a_mm: float = Field(gt=0)
-    arm_b_mm: float = Field(gt=0)
-    arm_angle_deg: float = Field(gt=0, lt=180)
-
-    def build(self) -> Mechanism:
-        """Return the mechanism (cam A's view; cam B via ``.cam_b``)."""
-        from camtol.mechanisms.conjugate import ConjugatePair
-
-        return ConjugatePair(
-            self.base_radius_mm,
-            self.roller_radius_mm,
-            self.pivot_distance_mm,
-            self.arm_a_mm,
-            self.arm_b_mm,
-            math.radians(self.arm_angle_deg),
-            self.roller_b_radius_mm,
-        )
+    ordered = sorted(MECHANISMS.items(), key=lambda kc: (kc[1].listing_order, kc[0]))
+    return {k: c for k, c in ordered if c.parameters}
 
 
-#: Follower schema by ``follower.type``. Each schema's ``build()`` returns the mechanism.
-FOLLOWER_SCHEMAS: dict[str, type[Any]] = {
-    "flat_translating": FlatTranslatingSchema,
-    "flat_oscillating": FlatOscillatingSchema,
-    "roller_translating": RollerTranslatingSchema,
-    "roller_oscillating": RollerOscillatingSchema,
-    "conjugate": ConjugateSchema,
-}
+def _follower(raw: Any) -> Mechanism:
+    """Validate ``[follower]`` against the one discriminated union; build the mechanism."""
+    types = follower_types()
+    allowed = ", ".join(types)
+    if not isinstance(raw, Mapping):
+        raise ConfigError(f"follower={_short(raw)} must be a table; allowed types: {allowed}")
+    ftype = raw.get("type")
+    if ftype is None:
+        raise ConfigError(f"follower.type is missing; allowed: {allowed}")
+    if not isinstance(ftype, str) or ftype not in types:
+        raise ConfigError(f"follower.type={_short(ftype)} is unknown; allowed: {allowed}")
+    adapter = _follower_adapter(tuple(types.values()))
+    try:
+        model = adapter.validate_python(dict(raw))
+    except ValidationError as exc:
+        raise ConfigError(_format_validation_error(exc, "follower.", skip=1)) from None
+    values = model.model_dump(exclude={"type"})
+    return types[ftype].from_parameters(values)
 
 
 # --- motion ----------------------------------------------------------------------------
+_LIFT_MM = _number(0.0, LIFT_MAX_MM, "segment lift [mm]", open_low=True)
+_LIFT_DEG = _number(0.0, LIFT_MAX_DEG, "segment swing [deg]", open_low=True)
+_ANGLE = _number(-ANGLE_MAX_DEG, ANGLE_MAX_DEG, "cam angle [deg]")
+
+
 class SegmentSchema(_Strict):
-    """One motion segment."""
+    """One motion segment: kind, law, start/end angle [deg], lift [mm] or swing [deg]."""
 
     kind: Literal["rise", "return", "dwell"]
     law: str | None = None
-    start_deg: float | None = None
-    end_deg: float
-    lift_mm: float | None = Field(default=None, gt=0)
-    lift_deg: float | None = Field(default=None, gt=0)
+    start_deg: _ANGLE | None = None  # type: ignore[valid-type]
+    end_deg: _ANGLE  # type: ignore[valid-type]
+    lift_mm: _LIFT_MM | None = None  # type: ignore[valid-type]
+    lift_deg: _LIFT_DEG | None = None  # type: ignore[valid-type]
 
     @field_validator("law")
     @classmethod
@@ -206,21 +210,27 @@ class SegmentSchema(_Strict):
         return v
 
 
+_TABLE_MM = Annotated[float, Field(ge=-LIFT_MAX_MM, le=LIFT_MAX_MM, **_FINITE)]
+_TABLE_DEG = Annotated[float, Field(ge=-LIFT_MAX_DEG, le=LIFT_MAX_DEG, **_FINITE)]
+
+
 class MotionSchema(_Strict):
-    """The motion program: segments or a lift table."""
+    """The motion program: segments or a lift table (file, or inline values)."""
 
     segments: list[SegmentSchema] | None = None
     table_file: str | None = None
-    table_step_deg: float | None = Field(default=None, gt=0)
-    table_lift_mm: list[float] | None = None
-    table_lift_deg: list[float] | None = None
+    table_step_deg: _number(0.0, 360.0, "table step [deg]", open_low=True) | None = None  # type: ignore[valid-type]
+    table_lift_mm: list[_TABLE_MM] | None = None
+    table_lift_deg: list[_TABLE_DEG] | None = None
 
 
 class OperationSchema(_Strict):
-    """Operating conditions."""
+    """Operating conditions: speed (0, 1e6] rpm, pressure-angle limit (0, 90) deg."""
 
-    speed_rpm: float | None = Field(default=None, gt=0)
-    pressure_angle_limit_deg: float | None = Field(default=None, gt=0, lt=90)
+    speed_rpm: _number(0.0, SPEED_MAX_RPM, "cam speed [rpm]", open_low=True) | None = None  # type: ignore[valid-type]
+    pressure_angle_limit_deg: (
+        Annotated[float, Field(gt=0, lt=90, description="design limit [deg]", **_FINITE)] | None
+    ) = None
 
 
 class TraceabilitySchema(_Strict):
@@ -245,7 +255,7 @@ class DrawingSchema(_Strict):
 class DesignSchema(_Strict):
     """Top level of a design file."""
 
-    name: str = Field(min_length=1)
+    name: str = Field(min_length=1, max_length=200)
     description: str = ""
     reference: str = ""
     follower: dict[str, Any]
@@ -259,19 +269,31 @@ class DesignSchema(_Strict):
     drawing: DrawingSchema = DrawingSchema()
 
 
-def _format_validation_error(exc: ValidationError, prefix: str = "") -> str:
+def _short(value: Any) -> str:
+    """Repr of a value, at most :data:`VALUE_CHARS` characters."""
+    text = repr(value)
+    return text if len(text) <= VALUE_CHARS else text[: VALUE_CHARS - 1] + "…"
+
+
+def _format_validation_error(exc: ValidationError, prefix: str = "", *, skip: int = 0) -> str:
+    """Format each problem as ``field=value: what is allowed``, on one bounded line."""
     parts = []
     for err in exc.errors():
-        loc = ".".join(str(p) if not isinstance(p, int) else f"[{p}]" for p in err["loc"])
-        loc = (prefix + loc).replace(".[", "[")
+        loc = ".".join(str(p) if not isinstance(p, int) else f"[{p}]" for p in err["loc"][skip:])
+        loc = (prefix + loc).replace(".[", "[").rstrip(".")
         if err["type"] == "missing":
             parts.append(f"{loc} is missing")
         elif err["type"] == "extra_forbidden":
             parts.append(f"{loc} is not a known field")
         else:
             msg = err["msg"].removeprefix("Value error, ")
-            parts.append(f"{loc}={err.get('input')!r}: {msg}")
-    return "; ".join(parts)
+            parts.append(f"{loc}={_short(err.get('input'))}: {msg}")
+    out = parts[0]
+    for n, part in enumerate(parts[1:], start=1):
+        if len(out) + len(part) + 2 > MESSAGE_CHARS:
+            return f"{out}; and {len(parts) - n} more problem(s)"
+        out += "; " + part
+    return out
 
 
 def _validate(model: type[Any], data: Any, prefix: str = "") -> Any:
@@ -383,16 +405,25 @@ def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec,
         if suffix == "":
             if not isinstance(value, str):
                 raise ConfigError(
-                    f"tolerances.{name}={value!r}: a bare key takes an IT grade such as 'IT6';"
-                    f" give an explicit deviation as {key}_{want}"
+                    f"tolerances.{name}={_short(value)}: a bare key takes an IT grade such as"
+                    f" 'IT6'; give an explicit deviation as {key}_{want}"
                 )
             try:
                 specs.append(ToleranceSpec(key, grade=value))
             except ValueError as exc:
-                raise ConfigError(f"tolerances.{name}={value!r}: {exc}") from None
+                raise ConfigError(f"tolerances.{name}={_short(value)}: {exc}") from None
         elif suffix == want:
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ConfigError(f"tolerances.{name}={value!r} must be a number of {want}")
+            limit = DEVIATION_MAX_UM if want == "um" else DEVIATION_MAX_DEG
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not math.isfinite(value)
+                or abs(value) > limit
+            ):
+                raise ConfigError(
+                    f"tolerances.{name}={_short(value)} must be a finite number of {want}"
+                    f" with |value| ≤ {limit:g}"
+                )
             specs.append(ToleranceSpec(key, deviation=float(value)))
         else:
             raise ConfigError(
@@ -417,14 +448,8 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
         Naming the field, the value and what is allowed.
     """
     top = _validate(DesignSchema, data)
-    ftype = top.follower.get("type")
-    if ftype not in FOLLOWER_SCHEMAS:
-        raise ConfigError(
-            f"follower.type={ftype!r} is unknown; allowed: {', '.join(FOLLOWER_SCHEMAS)}"
-        )
-    fschema = _validate(FOLLOWER_SCHEMAS[ftype], top.follower, "follower.")
     try:
-        mech = fschema.build()
+        mech = _follower(top.follower)
         program = _motion_program(top.motion, mech.output == "oscillating", base_dir)
         return CamDesign(
             name=top.name,
@@ -508,3 +533,6 @@ def load_example(name: str) -> CamDesign:
         If there is no such example.
     """
     return design_from_mapping(_parse_toml(example_text(name), f"example {name!r}"))
+
+
+from camtol.config_write import dump_design  # noqa: E402  (re-exported here)

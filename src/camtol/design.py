@@ -9,9 +9,11 @@ degrees and reads the result in thousandths of a degree (not defined by ISO 286)
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from camtol import iso286
 from camtol.exceptions import DesignError
@@ -199,6 +201,58 @@ class CamDesign:
             out.append(Cam(label, mech, design))
         return tuple(out)
 
+    def canonical(self) -> dict[str, Any]:
+        """Plain data that identifies the design, the input of :attr:`content_hash`.
+
+        Every float is written as its shortest round-trip ``repr`` in internal units
+        (mm, rad), so the form does not depend on how a file spelled a number (``40``,
+        ``40.0``, ``4e1``) or on the platform.
+
+        Returns
+        -------
+        dict
+            ``format`` (``"camtol-design-1"``), ``name``, ``description``, ``reference``,
+            ``follower`` (type and every dataclass field), ``motion``
+            (:meth:`camtol.motion.MotionProgram.canonical`), ``tolerances`` (key with grade
+            or file-unit deviation, in order), ``operation``, ``inspection`` (the
+            ``[inspection]`` table as validated; a CSV-backed function enters by its path,
+            not its content) and ``extras``.
+        """
+        mech = self.mechanism
+        follower: dict[str, Any] = {"type": mech.kind}
+        for f in dataclasses.fields(mech):  # type: ignore[arg-type]
+            follower[f.name] = _canonical(getattr(mech, f.name))
+        return {
+            "format": "camtol-design-1",
+            "name": self.name,
+            "description": self.description,
+            "reference": self.reference,
+            "follower": follower,
+            "motion": self.program.canonical(),
+            "tolerances": [[t.key, t.grade, _canonical(t.deviation)] for t in self.tolerances],
+            "operation": {
+                "speed_rpm": _canonical(self.speed_rpm),
+                "pressure_angle_limit_deg": _canonical(self.pressure_angle_limit_deg),
+            },
+            "inspection": (
+                None if self.inspection is None else _canonical(self.inspection.to_mapping())
+            ),
+            "extras": _canonical(self.extras),
+        }
+
+    @property
+    def content_hash(self) -> str:
+        """Stable SHA-256 of the design's content (hex), e.g. for inspection records.
+
+        The hash of the JSON text of :meth:`canonical` (keys sorted, no spaces, UTF-8):
+        equal designs have equal hashes on every platform and Python version; any change
+        of a dimension, the motion, a tolerance, the operating data, the name or the
+        ``[inspection]`` table changes it. Comments and number spelling in the file do
+        not. A design written back with :func:`camtol.config.dump_design` keeps it.
+        """
+        text = json.dumps(self.canonical(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
     def describe_motion(self) -> str:
         """Describe the motion program in file units (mm, or degrees when oscillating)."""
         if self.mechanism.output == "translating":
@@ -276,3 +330,27 @@ class Cam:
     label: str
     mechanism: Mechanism
     design: CamDesign
+
+
+def _canonical(x: Any) -> Any:
+    """Plain JSON data with floats as ``repr`` strings (see CamDesign.canonical)."""
+    if x is None or isinstance(x, bool | str | int):
+        return x
+    if isinstance(x, float):
+        return repr(float(x))
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return {f.name: _canonical(getattr(x, f.name)) for f in dataclasses.fields(x)}
+    if isinstance(x, dict):
+        return {str(k): _canonical(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_canonical(v) for v in x]
+    try:  # numpy scalars and arrays
+        import numpy as np
+
+        if isinstance(x, np.ndarray):
+            return [_canonical(v) for v in x.tolist()]
+        if isinstance(x, np.generic):
+            return _canonical(x.item())
+    except ImportError:  # pragma: no cover
+        pass
+    return repr(x)

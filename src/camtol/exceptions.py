@@ -10,9 +10,11 @@ __all__ = [
     "CamtolError",
     "ConfigError",
     "DesignError",
+    "ExportError",
     "GeometryError",
     "InputFileError",
     "PressureAngleWarning",
+    "ToleranceGradeError",
     "UndercutError",
 ]
 
@@ -31,6 +33,14 @@ class ConfigError(DesignError):
 
 class InputFileError(CamtolError, ValueError):
     """A data file (CSV table, measurement) cannot be read or is malformed."""
+
+
+class ToleranceGradeError(CamtolError, ValueError):
+    """An unknown tolerance grade, or a grade/size ISO 286 does not define (THEORY §3.6)."""
+
+
+class ExportError(CamtolError, ValueError):
+    """An export was asked for in a form camtol cannot write (suffix, path, tolerance)."""
 
 
 class GeometryError(DesignError):

@@ -35,6 +35,8 @@ from bisect import bisect_left
 from dataclasses import dataclass
 from typing import Final
 
+from camtol.exceptions import ToleranceGradeError
+
 __all__ = [
     "GRADES",
     "SIZE_RANGES_MM",
@@ -108,10 +110,6 @@ _UPPER_LIMITS_MM: Final[tuple[float, ...]] = tuple(hi for _, hi in SIZE_RANGES_M
 
 # Display units of a bracket and the divisor from the table's micrometres to them.
 _UNIT_DIVISOR: Final[dict[str, float]] = {"µm": 1.0, "°": 1000.0}
-
-
-class ToleranceGradeError(ValueError):
-    """An unknown tolerance grade, or a grade/size the standard does not define."""
 
 
 def _allowed_grades_text() -> str:

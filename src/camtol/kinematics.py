@@ -270,22 +270,10 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     undercut = design.mechanism.undercut_mask(kin.curvature_radius_mm)
     if np.any(undercut):
         i = int(np.argmin(np.where(undercut, kin.curvature_radius_mm, np.inf)))
-        rho = kin.curvature_radius_mm[i]
-        roller = getattr(design.mechanism, "roller_radius_mm", None)
-        if roller is None:  # flat faces need a convex cam (THEORY §2.1)
-            what = (
-                f"the profile is not convex: radius of curvature {rho:.4g} mm at θ={deg[i]:.2f}°"
-                f" (cusp/undercut); a {design.mechanism.kind} follower needs ρ > 0 everywhere"
-            )
-        else:  # a roller needs a convex pitch curve flatter than itself (THEORY §2.3)
-            what = (
-                f"the roller undercuts the profile: radius of curvature {rho:.4g} mm at"
-                f" θ={deg[i]:.2f}° (pitch-curve radius {rho + roller:.4g} mm, smaller than the"
-                f" roller radius {roller:g} mm)"
-            )
+        what = design.mechanism.undercut_message(float(kin.curvature_radius_mm[i]), deg[i])
         raise UndercutError(f"{what}: increase the base radius or lengthen the motion")
-    pivot = getattr(design.mechanism, "pivot_distance_mm", None)
-    if design.mechanism.output == "oscillating" and pivot is not None:
+    pivot = design.mechanism.pivot_clearance_mm
+    if pivot is not None:
         k = int(np.argmax(kin.radius_mm))
         if kin.radius_mm[k] >= pivot:
             raise GeometryError(

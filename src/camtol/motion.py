@@ -19,35 +19,26 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from functools import cache
+from functools import lru_cache
 from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from camtol.exceptions import DesignError
+from camtol.motion_laws import MOTION_LAWS, MotionLawName, NormalizedLaw, normalized_law
 
 FloatArray = NDArray[np.float64]
 
-MotionLawName = Literal[
-    "cycloidal",
-    "simple_harmonic",
-    "polynomial_345",
-    "polynomial_4567",
-    "modified_trapezoid",
-    "modified_sine",
-    "constant_velocity",
-]
 SegmentKind = Literal["rise", "return", "dwell"]
-MOTION_LAWS: tuple[str, ...] = get_args(MotionLawName)
 TWO_PI = 2.0 * math.pi
 
 __all__ = [
     "MOTION_LAWS",
     "LiftTable",
     "MotionLawName",
+    "NormalizedLaw",
     "MotionProgram",
     "MotionState",
     "Segment",
@@ -77,166 +68,6 @@ class MotionState:
     velocity: FloatArray
     acceleration: FloatArray
     jerk: FloatArray
-
-
-# ---------------------------------------------------------------------------------------
-# Normalised laws: s(x), v = ds/dx, a = d²s/dx², j = d³s/dx³, with s(0)=0, s(1)=1.
-# ---------------------------------------------------------------------------------------
-NormalizedLaw = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]]
-
-
-def _cycloidal(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    w = TWO_PI * x
-    sin_w, cos_w = np.sin(w), np.cos(w)  # once each: transcendentals dominate the cost
-    return (
-        x - sin_w / TWO_PI,
-        1.0 - cos_w,
-        TWO_PI * sin_w,
-        TWO_PI**2 * cos_w,
-    )
-
-
-def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    w = math.pi * x
-    sin_w, cos_w = np.sin(w), np.cos(w)
-    return (
-        0.5 * (1.0 - cos_w),
-        0.5 * math.pi * sin_w,
-        0.5 * math.pi**2 * cos_w,
-        -0.5 * math.pi**3 * sin_w,
-    )
-
-
-def _polynomial(coefficients: Sequence[float]) -> NormalizedLaw:
-    """Return a law s(x) = Σ c_k x^k with its analytic derivatives."""
-    p0 = np.polynomial.Polynomial(coefficients)
-    p1, p2, p3 = p0.deriv(1), p0.deriv(2), p0.deriv(3)
-
-    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        return p0(x), p1(x), p2(x), p3(x)
-
-    return law
-
-
-@dataclass(frozen=True)
-class _SinePiece:
-    """Acceleration a(x) = c + q sin(k x + p) on [x0, x1), integrated exactly."""
-
-    x0: float
-    c: float
-    q: float
-    k: float
-    p: float
-    v0: float = 0.0
-    s0: float = 0.0
-
-    def evaluate(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        d = x - self.x0
-        if self.k == 0.0:
-            a = np.full_like(x, self.c + self.q * math.sin(self.p))
-            return self.s0 + self.v0 * d + 0.5 * a * d * d, self.v0 + a * d, a, np.zeros_like(x)
-        ph = self.k * x + self.p
-        ph0 = self.k * self.x0 + self.p
-        a = self.c + self.q * np.sin(ph)
-        j = self.q * self.k * np.cos(ph)
-        v = self.v0 + self.c * d - self.q / self.k * (np.cos(ph) - math.cos(ph0))
-        s = (
-            self.s0
-            + self.v0 * d
-            + 0.5 * self.c * d * d
-            - self.q / self.k * ((np.sin(ph) - math.sin(ph0)) / self.k - math.cos(ph0) * d)
-        )
-        return s, v, a, j
-
-
-def _piecewise_sine_law(
-    pieces: Sequence[tuple[float, float, float, float, float]],
-) -> NormalizedLaw:
-    """Build a law from acceleration pieces (x0, c, q, k, p), normalised to s(1) = 1.
-
-    Velocity and displacement are carried exactly across piece ends, and the whole law
-    is then scaled so that s(1) = 1; the peak factors of Norton's tables (e.g. 4.8881 for
-    the modified trapezoid) follow from the shape instead of being typed in.
-    """
-    built: list[_SinePiece] = []
-    v0 = s0 = 0.0
-    for i, (x0, c, q, k, p) in enumerate(pieces):
-        piece = _SinePiece(x0, c, q, k, p, v0, s0)
-        built.append(piece)
-        x1 = pieces[i + 1][0] if i + 1 < len(pieces) else 1.0
-        s1, v1, _, _ = piece.evaluate(np.array([x1]))
-        s0, v0 = float(s1[0]), float(v1[0])
-    scale = 1.0 / s0
-    starts = np.array([pc.x0 for pc in built])
-
-    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(built) - 1)
-        out = [np.empty_like(x) for _ in range(4)]
-        for i, piece in enumerate(built):
-            m = idx == i
-            if np.any(m):
-                for arr, val in zip(out, piece.evaluate(x[m]), strict=True):
-                    arr[m] = val * scale
-        return out[0], out[1], out[2], out[3]
-
-    return law
-
-
-_FOUR_PI = 4.0 * math.pi
-# Modified trapezoid (Norton): sine ramps of 1/8 around constant-acceleration flats.
-_MODIFIED_TRAPEZOID = _piecewise_sine_law(
-    [
-        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
-        (0.125, 1.0, 0.0, 0.0, 0.0),
-        (0.375, 0.0, 1.0, _FOUR_PI, math.pi / 2 - _FOUR_PI * 0.375),
-        (0.625, -1.0, 0.0, 0.0, 0.0),
-        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
-    ]
-)
-# Modified sine (Norton): quarter-period sine of 1/8, then a sine three times longer.
-_MODIFIED_SINE = _piecewise_sine_law(
-    [
-        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
-        (0.125, 0.0, 1.0, _FOUR_PI / 3.0, math.pi / 2 - _FOUR_PI / 3.0 * 0.125),
-        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
-    ]
-)
-
-
-def _constant_velocity(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    return x.copy(), np.ones_like(x), np.zeros_like(x), np.zeros_like(x)
-
-
-_LAWS: dict[str, NormalizedLaw] = {
-    "cycloidal": _cycloidal,
-    "simple_harmonic": _simple_harmonic,
-    "polynomial_345": _polynomial([0, 0, 0, 10, -15, 6]),
-    "polynomial_4567": _polynomial([0, 0, 0, 0, 35, -84, 70, -20]),
-    "modified_trapezoid": _MODIFIED_TRAPEZOID,
-    "modified_sine": _MODIFIED_SINE,
-    "constant_velocity": _constant_velocity,
-}
-
-
-def normalized_law(name: str) -> NormalizedLaw:
-    """Return the normalised law ``x -> (s, ds/dx, d²s/dx², d³s/dx³)``.
-
-    Parameters
-    ----------
-    name : str
-        One of :data:`MOTION_LAWS`.
-
-    Raises
-    ------
-    DesignError
-        If the law is unknown.
-    """
-    try:
-        return _LAWS[name]
-    except KeyError:
-        raise DesignError(
-            f"motion law {name!r} is unknown; allowed: {', '.join(MOTION_LAWS)}"
-        ) from None
 
 
 # ---------------------------------------------------------------------------------------
@@ -307,6 +138,10 @@ class MotionProgram:
     @property
     def total_travel(self) -> float:
         """Largest minus smallest lift over a revolution. [mm, or rad]"""
+        raise NotImplementedError
+
+    def canonical(self) -> dict[str, object]:
+        """Plain data that identifies the program (floats as ``repr``), for hashing."""
         raise NotImplementedError
 
     def describe(self, *, unit: str = "", scale: float = 1.0) -> str:
@@ -389,6 +224,21 @@ class SegmentProgram(MotionProgram):
             )
         object.__setattr__(self, "_starts", np.array([s.start_rad for s in segs]))
         object.__setattr__(self, "_levels", levels[:-1] - levels.min())
+
+    def canonical(self) -> dict[str, object]:
+        """Plain-data form for :attr:`camtol.design.CamDesign.content_hash`."""
+        return {
+            "segments": [
+                [
+                    g.kind,
+                    repr(float(g.start_rad)),
+                    repr(float(g.end_rad)),
+                    g.law,
+                    repr(float(g.height)),
+                ]
+                for g in self.segments
+            ]
+        }
 
     @property
     def boundaries_rad(self) -> FloatArray:
@@ -495,7 +345,7 @@ class SegmentProgram(MotionProgram):
         return MotionState(*(o.reshape(shape) for o in out))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LiftTable(MotionProgram):
     """A program given as a table of lifts at equally spaced cam angles (THEORY §1, §6).
 
@@ -540,6 +390,29 @@ class LiftTable(MotionProgram):
                 f"motion.table angles must start at 0° and be equally spaced over 360° "
                 f"(expected a step of {math.degrees(step):g}° for {t.size} entries)"
             )
+        # The angles are canonical (k·2π/n): a table is its lifts, so that equal tables
+        # compare equal and a design written back reads in bit for bit the same.
+        object.__setattr__(self, "theta_rad", np.arange(t.size) * step)
+        object.__setattr__(self, "lift", s.copy())
+        self.lift.setflags(write=False)
+        self.theta_rad.setflags(write=False)
+
+    def __eq__(self, other: object) -> bool:
+        """Equal lifts (bit for bit) and resolution."""
+        if not isinstance(other, LiftTable):
+            return NotImplemented
+        return bool(np.array_equal(self.lift, other.lift)) and self.resolution == other.resolution
+
+    def __hash__(self) -> int:
+        """Hash of the lifts and the resolution."""
+        return hash((self.lift.tobytes(), self.resolution))
+
+    def canonical(self) -> dict[str, object]:
+        """Plain-data form for :attr:`camtol.design.CamDesign.content_hash`."""
+        return {
+            "table": [repr(float(v)) for v in self.lift],
+            "resolution": None if self.resolution is None else repr(float(self.resolution)),
+        }
 
     @property
     def step_rad(self) -> float:
@@ -625,7 +498,12 @@ def table_resolution(values: ArrayLike, *, max_decimals: int = 12) -> float | No
     return None
 
 
-@cache
+#: Splines kept for re-use (one per distinct lift table; bounded so that Monte Carlo over
+#: perturbed tables cannot grow memory without limit).
+SPLINE_CACHE_SIZE = 32
+
+
+@lru_cache(maxsize=SPLINE_CACHE_SIZE)
 def _periodic_spline(t_bytes: bytes, s_bytes: bytes):  # type: ignore[no-untyped-def]
     from scipy.interpolate import CubicSpline  # lazy: keep the core import light
 

@@ -88,21 +88,10 @@ def _cam_kinematics(
     design: CamDesign, theta: FloatArray, left: NDArray[np.bool_]
 ) -> list[tuple[str, Mechanism, Kinematics]]:
     """(label, mechanism, kinematics) of every cam of the design, unchecked."""
-    cams = getattr(design, "cams", None)
-    if cams is not None:
-        return [
-            (c.label, c.mechanism, kinematics(c.design, theta, left_limit=left, check=False))
-            for c in cams()
-        ]
-    if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import cam_design
-
-        out: list[tuple[str, Mechanism, Kinematics]] = []
-        for label in ("A", "B"):
-            d = cam_design(design, label)
-            out.append((label, d.mechanism, kinematics(d, theta, left_limit=left, check=False)))
-        return out
-    return [("", design.mechanism, kinematics(design, theta, left_limit=left, check=False))]
+    return [
+        (c.label, c.mechanism, kinematics(c.design, theta, left_limit=left, check=False))
+        for c in design.cams()
+    ]
 
 
 def _problems(geometry: CamGeometry, kin: Kinematics) -> list[str]:

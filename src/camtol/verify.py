@@ -5,7 +5,7 @@ Three checks, each against exact contact geometry (no linearisation, no stepping
 1. Round trip: the profile synthesised by THEORY §2 is handed to the contact engine with
    the nominal follower; the follower's exact motion must reproduce S(θ) to 1e-9 (mm, or
    rad for an oscillating follower).
-2. Polyline: the profile as exported (:func:`camtol.report.export.profile_points`, its
+2. Polyline: the profile as exported (:func:`camtol.profile.profile_points`, its
    default chordal tolerance) is a polygon inscribed in the curve; the follower's motion
    on it must fall short of S(θ) by the chordal sag of each chord times the output's
    sensitivity to a normal profile error (THEORY §3), no more and no less.
@@ -258,12 +258,12 @@ def _exact_delta(
             radial_error=err if key == "r" else None,
             normal_error=err if key == "n" else None,
         )
-        res = follow(theta, shape, mech, left_limit=left)
+        res = follow(shape, mech, theta, left_limit=left)
     else:
         res = follow(
-            theta,
             _nominal_shape(design),
             mech.perturbed(key, deviation),
+            theta,
             reference=mech,
             left_limit=left,
         )
@@ -317,7 +317,7 @@ def _linearisation(
 
 
 def _polyline(design: CamDesign) -> PolylineCheck:
-    from camtol.report.export import DEFAULT_TOLERANCE_MM, profile_points
+    from camtol.profile import DEFAULT_TOLERANCE_MM, profile_points
 
     curve = profile_points(design).profile
     poly = PolygonShape(np.column_stack([curve.x_mm, curve.y_mm]))
@@ -333,7 +333,7 @@ def _polyline(design: CamDesign) -> PolylineCheck:
     # material), < 0 in a concave stretch (the chord adds material). The profile runs
     # counterclockwise, so an outward bulge lies to the right of the chord.
     sag = -(dx * (py.v - y0) - dy * (px.v - x0)) / np.hypot(dx, dy)
-    res = follow(mid, poly, design.mechanism)
+    res = follow(poly, design.mechanism, mid)
     nominal = design.program.evaluate(mid).lift
     err = nominal - res.lift
     unit_n = ResolvedTolerance("n", 1.0, "mm", "unit normal error")
@@ -382,14 +382,14 @@ def verify(design: CamDesign, *, step_deg: float = 0.1, polyline: bool = True) -
     GeometryError, UndercutError
         If the design cannot produce its motion (as ``analyze`` would report).
     """
-    if design.mechanism.kind == "conjugate":
+    if len(design.cams()) > 1:  # both cams together: through the measuring fixture
         return verify_conjugate(design, step_deg=step_deg, polyline=polyline)
     from camtol.analysis import max_radius_mm
 
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     kinematics(design, theta, left_limit=left, check=True)
     motion = design.program.evaluate(theta, left_limit=left)
-    res = follow(theta, _nominal_shape(design), design.mechanism, left_limit=left)
+    res = follow(_nominal_shape(design), design.mechanism, theta, left_limit=left)
     tolerances = design.resolve_tolerances(max_radius_mm(design))
     checks, notes = _linearisation(design, tolerances, theta, left)
     return Verification(
@@ -492,9 +492,10 @@ def verify_conjugate(
         Also check the exported polylines.
     """
     from camtol.analysis import max_radius_mm
+    from camtol.conjugate import conjugate_kinematics
     from camtol.contact.fixture import Fixture, simulate_fixture
     from camtol.inspection.conjugate import conjugate_factors, conjugate_variation
-    from camtol.mechanisms.conjugate import ConjugatePair, cam_design, conjugate_kinematics
+    from camtol.mechanisms.conjugate import ConjugatePair
 
     pair = design.mechanism
     assert isinstance(pair, ConjugatePair)
@@ -508,7 +509,7 @@ def verify_conjugate(
         theta, shape_a, shape_b, Fixture.of(pair), initial_angle_rad=xi0, left_limit=left
     )
     cases, origin = _fixture_inputs(design, max_radius_mm(design))
-    factors = conjugate_factors(theta, design)
+    factors = conjugate_factors(design, theta)
     checks: dict[str, LinearisationCheck] = {}
     for key, (ea, eb, const) in cases.items():
         lin, ex = [], []
@@ -553,8 +554,9 @@ def verify_conjugate(
     }
     poly_a = None
     if polyline:
-        poly_a = _polyline(design)
-        poly_b = _polyline(cam_design(design, "B"))
+        cam_a, cam_b = (c.design for c in design.cams())
+        poly_a = _polyline(cam_a)
+        poly_b = _polyline(cam_b)
         extras["polyline_b"] = dataclasses.asdict(poly_b)
     rt = float(np.max(np.abs(nominal.lift - motion.lift)))
     return Verification(

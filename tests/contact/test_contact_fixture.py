@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from camtol.config import load_example
+from camtol.contact.engine import follow
 from camtol.contact.errors_profile import CallableError, FourierError
 from camtol.contact.fixture import Fixture, simulate_fixture
-from camtol.contact.roller import follow_roller_oscillating
 from camtol.contact.shapes import AnalyticShape
 from camtol.exceptions import GeometryError
 from camtol.inspection import FixtureErrors, conjugate_factors, conjugate_variation
@@ -49,7 +49,7 @@ def test_master_cams_and_constant_errors_match_forward_analysis_to_second_order(
     spec = d.inspection
     assert spec is not None
     theta = np.radians(np.arange(0.0, 360.0, 0.5))
-    fac = conjugate_factors(theta, d)
+    fac = conjugate_factors(d, theta)
     diffs = []
     for k in (1.0, 0.5):
         ea = FourierError(18.5e-3 * k, sin_mm=(3.5e-3 * k,))
@@ -114,9 +114,7 @@ def test_fixed_pivot_agrees_with_single_roller_solvers(cw11: tuple) -> None:
     fstar = res.extras["centre_distance_mm"]
     for i in (0, 7, 20):
         mech = ConjugatePair(60.0, 16.0, float(fstar[i]), 66.0, 66.0, math.radians(100.0))
-        single = follow_roller_oscillating(
-            theta[i : i + 1], a.with_errors(radial_error=ea), mech.cam_a
-        )
+        single = follow(a.with_errors(radial_error=ea), mech.cam_a, theta[i : i + 1])
         assert single.extras["follower_angle_rad"][0] == pytest.approx(
             res.extras["follower_angle_rad"][i], abs=1e-11
         )

@@ -27,7 +27,7 @@ LAWS = ["cycloidal", "simple_harmonic", "polynomial_345", "polynomial_4567", "mo
 
 def roundtrip(design: CamDesign, step_deg: float = 0.25) -> tuple[float, float, float]:
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    res = follow(theta, AnalyticShape(design.mechanism, design.program), design.mechanism,
+    res = follow(AnalyticShape(design.mechanism, design.program), design.mechanism, theta,
                  left_limit=left)  # fmt: skip
     m = design.program.evaluate(theta, left_limit=left)
     return (
@@ -109,7 +109,7 @@ def test_eccentric_circle_popa() -> None:
     sweeps = np.diff(np.append(ang, ang[0] + 2 * math.pi))
     poly = PolygonShape(verts, np.tan(sweeps / 4))
     theta = np.linspace(0, 2 * math.pi, 3601)
-    res = follow_flat_translating(theta, poly, FlatTranslating(r0))
+    res = follow_flat_translating(poly, FlatTranslating(r0), theta)
     np.testing.assert_allclose(res.lift, ecc * (1 - np.cos(theta)), atol=1e-12)
     np.testing.assert_allclose(res.velocity, ecc * np.sin(theta), atol=1e-12)
     np.testing.assert_allclose(res.acceleration, ecc * np.cos(theta), atol=1e-12)
@@ -131,10 +131,10 @@ def test_flat_cut_polygon_lift_error_is_rho_delta2_over_8() -> None:
     vx = (l0 * n1[:, 1] - l1 * n0[:, 1]) / det
     vy = (n0[:, 0] * l1 - n1[:, 0] * l0) / det
     poly = PolygonShape(np.column_stack([vx, vy]))
-    at_cuts = follow_flat_translating(k, poly, d.mechanism)  # type: ignore[arg-type]
+    at_cuts = follow_flat_translating(poly, d.mechanism, k)  # type: ignore[arg-type]
     np.testing.assert_allclose(at_cuts.lift, nominal, atol=1e-11)
     mid = k + delta / 2
-    res = follow_flat_translating(mid, poly, d.mechanism)  # type: ignore[arg-type]
+    res = follow_flat_translating(poly, d.mechanism, mid)  # type: ignore[arg-type]
     m = d.program.evaluate(mid)
     excess = res.lift - m.lift
     rho = 40.0 + m.lift + m.acceleration
@@ -145,8 +145,8 @@ def test_flat_cut_polygon_lift_error_is_rho_delta2_over_8() -> None:
     # (about ρ δ).
     eps = 1e-9
     mech = d.mechanism
-    left = follow_flat_translating(k[1:] - eps, poly, mech).velocity  # type: ignore[arg-type]
-    right = follow_flat_translating(k[1:] + eps, poly, mech).velocity  # type: ignore[arg-type]
+    left = follow_flat_translating(poly, mech, k[1:] - eps).velocity  # type: ignore[arg-type]
+    right = follow_flat_translating(poly, mech, k[1:] + eps).velocity  # type: ignore[arg-type]
     edge = np.hypot(vx - np.roll(vx, 1), vy - np.roll(vy, 1))[1:]
     np.testing.assert_allclose(right - left, edge, atol=1e-6)
     mk = d.program.evaluate(k[1:])
@@ -163,7 +163,7 @@ def test_oscillating_flat_on_polygon_matches_independent_root_finding(
     poly = PolygonShape(np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]))
     mech = FlatOscillating(40.0, 85.0, 12.0)
     theta = np.linspace(0, 2 * math.pi, 97)
-    res = follow_flat_oscillating(theta, poly, mech)
+    res = follow_flat_oscillating(poly, mech, theta)
     xi = res.extras["follower_angle_rad"]
 
     def g(x: float, th: float) -> float:
@@ -179,8 +179,8 @@ def test_oscillating_velocity_and_acceleration_match_finite_differences() -> Non
     shape = AnalyticShape(d.mechanism, d.program, radial_error=FourierError(0.05, sin_mm=(0.03,)))
     theta = np.linspace(0.3, 1.8, 7)  # inside the rise
     h = 1e-4
-    f = [follow(theta + s * h, shape, d.mechanism).lift for s in (-1, 0, 1)]
-    res = follow(theta, shape, d.mechanism)
+    f = [follow(shape, d.mechanism, theta + s * h).lift for s in (-1, 0, 1)]
+    res = follow(shape, d.mechanism, theta)
     np.testing.assert_allclose(res.velocity, (f[2] - f[0]) / (2 * h), atol=1e-8)
     np.testing.assert_allclose(res.acceleration, (f[2] - 2 * f[1] + f[0]) / h**2, atol=1e-5)
 
@@ -192,7 +192,7 @@ def test_perturbed_translating_follower_signs() -> None:
     shape = AnalyticShape(mech, d.program)
     theta = np.linspace(0, 2 * math.pi, 361)
     moved = FlatTranslating(40.0, 10.0 + 0.009, r(15.0))
-    res = follow(theta, shape, moved, reference=mech)
+    res = follow(shape, moved, theta, reference=mech)
     ds = res.lift - d.program.evaluate(theta).lift
     np.testing.assert_allclose(ds, -0.009 * math.tan(r(15.0)), atol=1e-12)
 
@@ -200,7 +200,7 @@ def test_perturbed_translating_follower_signs() -> None:
 def test_face_that_cannot_reach_is_reported() -> None:
     poly = PolygonShape(np.array([[100.0, 0], [0, 100.0], [-100.0, 0], [0, -100.0]]))
     with pytest.raises(GeometryError, match="towards the follower pivot"):
-        follow_flat_oscillating(np.array([0.0]), poly, FlatOscillating(40.0, 80.0, 16.0))
+        follow_flat_oscillating(poly, FlatOscillating(40.0, 80.0, 16.0), np.array([0.0]))
 
 
 def test_no_warnings_on_the_grid() -> None:

@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 
 from camtol.contact.engine import follow
 from camtol.contact.errors_profile import FourierError
-from camtol.contact.roller import _features, _solve_polygon, roller_path
+from camtol.contact.roller_path import roller_path
+from camtol.contact.roller_polygon import _features, solve_polygon
 from camtol.contact.shapes import AnalyticShape, PolygonShape
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
@@ -31,7 +32,7 @@ from camtol.motion import SegmentProgram
 
 def roundtrip(mech: Mechanism, prog: SegmentProgram, step: float = 0.25) -> np.ndarray:
     theta, left = analysis_grid(step, prog.boundaries_rad)
-    res = follow(theta, AnalyticShape(mech, prog), mech, left_limit=left)
+    res = follow(AnalyticShape(mech, prog), mech, theta, left_limit=left)
     m = prog.evaluate(theta, left_limit=left)
     return np.array(
         [
@@ -47,7 +48,7 @@ def roundtrip(mech: Mechanism, prog: SegmentProgram, step: float = 0.25) -> np.n
     [
         (roller_translating().mechanism, roller_translating().program),
         (roller_oscillating().mechanism, roller_oscillating().program),
-        (conjugate_pair(), program(r(30.0))),
+        (conjugate_pair().cam_a, program(r(30.0))),
         (conjugate_pair().cam_b, program(r(30.0))),
     ],
     ids=["translating", "oscillating", "conjugate-A", "conjugate-B"],
@@ -118,8 +119,8 @@ def test_prefilter_equals_bruteforce_on_nonconvex_polygons(
     bulges = np.where(rng.uniform(size=400) < 0.3, rng.uniform(-0.2, 0.2, 400), 0.0)
     poly = PolygonShape(pts, bulges)
     theta = np.linspace(0, 2 * math.pi, 181)
-    fast = _solve_polygon(theta, poly, path)
-    brute = _solve_polygon(theta, poly, path, bruteforce=True)
+    fast = solve_polygon(theta, poly, path)
+    brute = solve_polygon(theta, poly, path, bruteforce=True)
     np.testing.assert_allclose(fast[0], brute[0], rtol=0, atol=1e-11)
     np.testing.assert_array_equal(fast[5], brute[5])
 
@@ -131,7 +132,7 @@ def test_roller_on_polygon_touches_and_is_clear(rng: np.random.Generator) -> Non
     poly = PolygonShape(pts)
     mech = RollerTranslating(45.0, 6.0, 3.0)
     theta = np.linspace(0, 2 * math.pi, 241)
-    res = follow(theta, poly, mech)
+    res = follow(poly, mech, theta)
     cx, cy = res.extras["roller_x_mm"], res.extras["roller_y_mm"]
     a = poly.vertices_mm
     b = np.roll(a, -1, axis=0)
@@ -158,7 +159,7 @@ def test_translating_roller_on_eccentric_circle_is_exact() -> None:
     poly = PolygonShape(verts, np.tan(sweeps / 4))
     mech = RollerTranslating(25.0, rf, e)
     theta = np.linspace(0, 2 * math.pi, 721)
-    res = follow(theta, poly, mech)
+    res = follow(poly, mech, theta)
     ct, st_ = np.cos(theta), np.sin(theta)
     ct_, cw = c[0] * ct + c[1] * st_, -c[0] * st_ + c[1] * ct
     y = ct_ + np.sqrt((rad + rf) ** 2 - (e - cw) ** 2)
@@ -190,11 +191,11 @@ def test_notch_narrower_than_roller_is_bridged() -> None:
     poly = PolygonShape(sq)
     assert not poly.is_convex
     mech = RollerTranslating(35.0, 5.0, 0.0)
-    res = follow(np.array([0.0]), poly, mech)
+    res = follow(poly, mech, np.array([0.0]))
     # Centre on the x axis touching the corners (40, ±1): y = 40 + sqrt(25 − 1).
     assert res.lift[0] + mech.s0_mm == pytest.approx(40 + math.sqrt(24), abs=1e-12)
     # A flat face only sees the hull: the notch is invisible.
-    flat = follow(np.array([0.0]), poly, FlatTranslating(35.0))
+    flat = follow(poly, FlatTranslating(35.0), np.array([0.0]))
     assert flat.lift[0] == pytest.approx(40 - 35, abs=1e-12)
 
 
@@ -210,7 +211,7 @@ def test_perturbed_roller_radius_shifts_lift_by_rf_over_cos_phi() -> None:
     diffs = []
     for drf in (0.02, 0.01):
         big = RollerTranslating(40.0, 10.0 + drf, 6.0)
-        ds = follow(theta, shape, big, reference=mech, left_limit=left).lift - base
+        ds = follow(shape, big, theta, reference=mech, left_limit=left).lift - base
         diffs.append(np.max(np.abs(ds - drf / np.cos(kin.pressure_angle_rad))))
     assert diffs[0] < 0.01 * 0.02
     assert diffs[0] / diffs[1] == pytest.approx(4.0, rel=0.05)
@@ -220,7 +221,7 @@ def test_radial_error_on_roller_profile_moves_follower() -> None:
     d = roller_oscillating()
     shape = AnalyticShape(d.mechanism, d.program, radial_error=FourierError(0.03))
     theta = np.linspace(0, 2 * math.pi, 181)
-    res = follow(theta, shape, d.mechanism)
+    res = follow(shape, d.mechanism, theta)
     assert np.all(res.lift - d.program.evaluate(theta).lift > 0)  # material added: pushes ξ up
 
 
@@ -232,7 +233,7 @@ def test_non_roller_mechanism_is_rejected() -> None:
 def test_unreachable_cam_is_reported() -> None:
     poly = PolygonShape(np.array([[1.0, 0], [0, 1.0], [-1.0, 0]]) + [200.0, 0])
     with pytest.raises(GeometryError, match="cannot reach"):
-        follow(np.array([math.pi]), poly, RollerTranslating(40.0, 5.0, 30.0))
+        follow(poly, RollerTranslating(40.0, 5.0, 30.0), np.array([math.pi]))
 
 
 def test_features_face_outward() -> None:
@@ -258,10 +259,10 @@ def test_polygon_velocity_and_acceleration_are_one_sided_derivatives(mech: Mecha
     theta = np.linspace(0.05, 2 * math.pi - 0.05, 400)
     # Truncation of the differences is about h²/6 times the next derivative (checked to
     # scale with h²): h = 1e-5 for V, 1e-4 for A.
-    mid = follow(theta, poly, mech)
+    mid = follow(poly, mech, theta)
     fd: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
     for h in (1e-5, 1e-4):
-        lo, hi = follow(theta - h, poly, mech), follow(theta + h, poly, mech)
+        lo, hi = follow(poly, mech, theta - h), follow(poly, mech, theta + h)
         same = (lo.feature == mid.feature) & (hi.feature == mid.feature)
         fd[h] = (
             same,
@@ -286,7 +287,7 @@ def test_contact_point_inside_a_concave_arc() -> None:
     xv = 90 - math.sqrt(50**2 - 20**2)
     verts = np.array([[xv, -20.0], [xv, 20.0], [-30.0, 20.0], [-30.0, -20.0]])
     poly = PolygonShape(verts, np.array([b, 0.0, 0.0, 0.0]))
-    res = follow(np.array([0.0]), poly, RollerTranslating(30.0, 5.0, 0.0))
+    res = follow(poly, RollerTranslating(30.0, 5.0, 0.0), np.array([0.0]))
     assert res.extras["roller_x_mm"][0] == pytest.approx(45.0, abs=1e-12)
     assert res.contact_x_mm[0] == pytest.approx(40.0, abs=1e-12)
     assert res.contact_y_mm[0] == pytest.approx(0.0, abs=1e-12)
@@ -317,8 +318,8 @@ def test_analytic_shape_without_own_seed_uses_the_polygon() -> None:
     shape = AnalyticShape(d.mechanism, d.program, samples=3600)
     mech = RollerTranslating(40.0, 8.0, 2.0)
     theta = np.linspace(0, 2 * math.pi, 181)
-    exact = follow(theta, shape, mech)
-    poly = follow(theta, shape.polygon, mech)
+    exact = follow(shape, mech, theta)
+    poly = follow(shape.polygon, mech, theta)
     assert np.all(exact.lift >= poly.lift - 1e-12)  # the polygon is inscribed
     assert np.max(exact.lift - poly.lift) < 1e-4
     t = exact.param_rad
@@ -353,16 +354,16 @@ def test_cam_cut_by_cylindrical_tool_roller_of_tool_radius() -> None:
     u1 = np.roll(verts, -1, axis=0) - ctr
     sweep = np.abs(np.arctan2(u0[:, 0] * u1[:, 1] - u0[:, 1] * u1[:, 0], np.sum(u0 * u1, axis=1)))
     poly = PolygonShape(verts, -np.tan(sweep / 4))
-    res = follow(k, poly, mech)
+    res = follow(poly, mech, k)
     np.testing.assert_allclose(res.lift, prog.evaluate(k).lift, atol=1e-9)
     between = k + delta / 2
-    res_mid = follow(between, poly, mech)
+    res_mid = follow(poly, mech, between)
     assert np.all(res_mid.lift > prog.evaluate(between).lift)
     # The fast prefilter agrees with brute force on this all-arc shape.
     path = roller_path(mech)[0]
     th = np.linspace(0, 2 * math.pi, 361)
     np.testing.assert_allclose(
-        _solve_polygon(th, poly, path)[0],
-        _solve_polygon(th, poly, path, bruteforce=True)[0],
+        solve_polygon(th, poly, path)[0],
+        solve_polygon(th, poly, path, bruteforce=True)[0],
         atol=1e-11,
     )

@@ -222,7 +222,7 @@ def test_table2_band_widths_from_the_constants() -> None:
     d = load_example("cw11-experiment")
     spec = d.inspection
     assert spec is not None
-    fac = conjugate_factors(np.radians([216.4, 219.3]), d)
+    fac = conjugate_factors(d, np.radians([216.4, 219.3]))
     b = acceptance_bands(
         fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
     )

@@ -40,7 +40,7 @@ PROGRAM = SegmentProgram(
 )
 DESIGN = CamDesign("cw11", ConjugatePair(60, 16, 120, 66, 66, r(100)), PROGRAM)
 THETA = np.radians(np.arange(0.0, 360.0, 0.5))
-FACTORS = conjugate_factors(THETA, DESIGN)
+FACTORS = conjugate_factors(DESIGN, THETA)
 
 
 # --- error functions ---------------------------------------------------------------------
@@ -219,7 +219,7 @@ def test_inspection_interval_ends_are_where_estimate_crosses_tolerance() -> None
         for end in np.array(res.verdicts[cam].failing_intervals_deg).ravel():
             t = np.radians([end])
             est = inverse_estimate(
-                conjugate_factors(t, DESIGN),
+                conjugate_factors(DESIGN, t),
                 22.0,
                 _spec(None).master_a,
                 _spec(None).master_b,
@@ -254,7 +254,7 @@ def test_needs_conjugate_design_and_valid_step() -> None:
     from camtol.mechanisms import RollerOscillating
 
     with pytest.raises(DesignError, match="conjugate"):
-        conjugate_factors(THETA, CamDesign("x", RollerOscillating(60, 16, 120, 66), PROGRAM))
+        conjugate_factors(CamDesign("x", RollerOscillating(60, 16, 120, 66), PROGRAM), THETA)
     with pytest.raises(DesignError, match="step_deg"):
         inspect_conjugate(DESIGN, _spec(None), step_deg=0.7)
 

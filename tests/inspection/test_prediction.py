@@ -30,7 +30,7 @@ def test_prediction_is_the_forward_variation_of_the_known_errors() -> None:
     assert spec is not None and spec.df_mea is not None
     res = inspect_conjugate(d, step_deg=1.0)
     assert res.predicted is not None and res.estimate is not None
-    fac = conjugate_factors(res.theta_rad, d)
+    fac = conjugate_factors(d, res.theta_rad)
     forward = conjugate_variation(fac, spec.master_a, spec.master_b, spec.errors)
     np.testing.assert_allclose(res.predicted.df_est_um, forward.df_est_um, atol=1e-12)
     # the measured side is unchanged: Δf_est of `variation` is still Δf_mea (eq. 19 → 18)
@@ -47,7 +47,7 @@ def test_a_measurement_equal_to_the_prediction_gives_zero_difference() -> None:
     assert spec is not None
     theta = np.radians(np.arange(0.0, 360.0, 0.5))
     forward = conjugate_variation(
-        conjugate_factors(theta, d), spec.master_a, spec.master_b, spec.errors
+        conjugate_factors(d, theta), spec.master_a, spec.master_b, spec.errors
     )
     mea = ErrorFunction.table(np.degrees(theta), forward.df_est_um, name="perfect record")
     res = inspect_conjugate(d, dataclasses.replace(spec, df_mea=mea), step_deg=0.5)

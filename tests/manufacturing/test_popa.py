@@ -60,6 +60,6 @@ def test_contact_engine_on_the_true_circle_gives_popas_lift() -> None:
     circle = PolygonShape(verts, np.full(4, math.tan(math.pi / 8)))
     d = load_example("popa-eccentric")
     theta = np.linspace(0.0, 2.0 * math.pi, 3601)
-    res = follow(theta, circle, d.mechanism)
+    res = follow(circle, d.mechanism, theta)
     assert_allclose(res.lift, E_MM * (1 - np.cos(theta)), atol=1e-12)
     assert_allclose(res.acceleration, E_MM * np.cos(theta), atol=1e-11)

@@ -300,9 +300,9 @@ class MechanismContract:
                         radial_error=err if src.key == "r" else None,
                         normal_error=err if src.key == "n" else None,
                     )
-                    lift = follow(theta, shape, mech).lift
+                    lift = follow(shape, mech, theta).lift
                 else:
-                    lift = follow(theta, nominal, mech.perturbed(src.key, d), reference=mech).lift
+                    lift = follow(nominal, mech.perturbed(src.key, d), theta, reference=mech).lift
                 lifts.append(np.asarray(lift))
             exact = (lifts[0] - lifts[1]) / 2.0
             if src.key in DESIGN_SOURCES:

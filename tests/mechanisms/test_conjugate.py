@@ -18,6 +18,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from test_roller_oscillating import OscillatingRollerContract
 
+from camtol.conjugate import cam_design, conjugate_kinematics
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
 from camtol.inspection.fixture import (
@@ -27,12 +28,7 @@ from camtol.inspection.fixture import (
     conjugate_variation,
 )
 from camtol.kinematics import kinematics
-from camtol.mechanisms.conjugate import (
-    ConjugateCamB,
-    ConjugatePair,
-    cam_design,
-    conjugate_kinematics,
-)
+from camtol.mechanisms.conjugate import ConjugateCamB, ConjugatePair
 from camtol.mechanisms.roller_oscillating import RollerOscillating
 from camtol.motion import Segment, SegmentProgram
 
@@ -195,7 +191,7 @@ def exact_centre_distance(design: CamDesign, theta: FArr, **p: Any) -> FArr:
 def test_conjugate_variation_matches_exact_fixture(design: CamDesign) -> None:
     theta = np.radians(np.linspace(1.3, 358.7, 24))
     try:
-        fac = conjugate_factors(theta, design)
+        fac = conjugate_factors(design, theta)
         kinematics(cam_design(design, "A"), np.radians(np.linspace(0, 360, 721)))
         kinematics(cam_design(design, "B"), np.radians(np.linspace(0, 360, 721)))
     except GeometryError:
@@ -244,7 +240,7 @@ def test_conjugate_variation_matches_exact_fixture(design: CamDesign) -> None:
 def test_error_function_inputs_to_variation() -> None:
     d = pair_design(60, 16, 120, 66, 66, 100, 30)
     theta = np.radians(np.arange(0, 360, 5.0))
-    fac = conjugate_factors(theta, d)
+    fac = conjugate_factors(d, theta)
     a = conjugate_variation(
         fac, ErrorFunction.constant(10.0), ErrorFunction.formula("0*theta"), FixtureErrors()
     )

@@ -61,7 +61,7 @@ def analytic_curves(design: CamDesign) -> dict[str, np.ndarray]:
 def _analytic_curves(design: CamDesign) -> dict[str, np.ndarray]:
     theta, left = analysis_grid(DENSE_STEP_DEG, design.program.boundaries_rad)
     if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import conjugate_kinematics
+        from camtol.conjugate import conjugate_kinematics
 
         k = conjugate_kinematics(design, theta, left_limit=left, check=False)
         return {

@@ -21,6 +21,7 @@ from matplotlib.figure import Figure
 from camtol import __version__
 from camtol.analysis import Analysis, analyse
 from camtol.config import example_names, load_example
+from camtol.drawing import analysis_drawing, cam_drawing
 from camtol.inspection import inspect_conjugate
 from camtol.inspection.record import process_record, record_estimates, to_error_function
 from camtol.inspection.simulate import simulate_record
@@ -48,7 +49,7 @@ def _error_axes(fig: Figure, title: str) -> Any:
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_legend_does_not_cover_the_worst_case_maximum(name: str) -> None:
     a = analysis_of(name)
-    fig = plots.analysis_figure(a)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
     FigureCanvasAgg(fig).draw()
     ax = _error_axes(fig, "Displacement errors ΔS")
     worst = a.curves["dS_worst"]
@@ -76,7 +77,7 @@ def test_legend_does_not_cover_the_worst_case_maximum(name: str) -> None:
 @pytest.mark.parametrize("name", ["roller-translating", "cw06-oscillating"])
 def test_analysis_figure_has_svaj_at_speed(name: str) -> None:
     a = analysis_of(name)
-    fig = plots.analysis_figure(a)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
     labels = {ax.get_ylabel() for ax in fig.axes}
     w = a.design.omega_rad_s
     if a.design.mechanism.output == "translating":
@@ -97,7 +98,7 @@ def test_pressure_angle_limit_line_and_pitch_curve() -> None:
     a = analysis_of("roller-translating")
     limit = a.design.pressure_angle_limit_deg
     assert limit is not None
-    fig = plots.analysis_figure(a)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
     ax = _error_axes(fig, "Shift angle, pressure angle")
     ys = {
         round(float(line.get_ydata()[0]), 9)
@@ -117,7 +118,7 @@ def test_pressure_angle_limit_line_and_pitch_curve() -> None:
 @pytest.mark.parametrize("title", ["Velocity errors ΔV", "Acceleration errors ΔA"])
 def test_worst_case_envelopes_on_dv_and_da(title: str) -> None:
     a = analysis_of("roller-translating")
-    fig = plots.analysis_figure(a)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
     ax = _error_axes(fig, title)
     env = [c for c in ax.collections if "envelope" in str(c.get_label())]
     assert len(env) == 1
@@ -175,7 +176,9 @@ def test_fixture_figure_names_design_and_draws_u_f_and_estimates() -> None:
 def _all_figures() -> list[tuple[str, Figure]]:
     a = analysis_of("cw06-translating")
     res, spec, est = _record_run()
-    figs: list[tuple[str, Figure]] = [("cw06-translating", plots.analysis_figure(a))]
+    figs: list[tuple[str, Figure]] = [
+        ("cw06-translating", plots.analysis_figure(a, analysis_drawing(a)))
+    ]
     figs.append(("cw11-conjugate", plots.fixture_figure(res, design_name="cw11-conjugate")))
     for fn in (
         plots.shift_angle_plot,
@@ -187,7 +190,7 @@ def _all_figures() -> list[tuple[str, Figure]]:
         arts = fn(a)
         figs.append(("cw06-translating", arts[0].get_figure()))
     figs.append(("cw06-translating", plots.svaj_plot(a)[0].get_figure()))
-    figs.append(("cw06-translating", plots.cam_plot(a.design, 30.0)[0].get_figure()))
+    figs.append(("cw06-translating", plots.cam_plot(cam_drawing(a.design, 30.0))[0].get_figure()))
     for fn2 in (plots.conjugate_variation_plot, plots.profile_error_estimate_plot):
         figs.append(("cw11-conjugate", fn2(res, design_name="cw11-conjugate")[0].get_figure()))
     figs.append(
@@ -206,7 +209,9 @@ def test_every_figure_names_design_and_version() -> None:
 
 def test_rendered_figure_png(tmp_path: Path) -> None:
     # The file a user gets from `camtol analyze --plot`: a real PNG of the whole figure.
-    fig = plots.analysis_figure(analysis_of("roller-translating"))
+    fig = plots.analysis_figure(
+        analysis_of("roller-translating"), analysis_drawing(analysis_of("roller-translating"))
+    )
     out = tmp_path / "f.png"
     fig.savefig(out)
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -21,6 +21,7 @@ from camtol.config import example_names, load_example
 from camtol.design import IT_CONVENTIONS
 from camtol.report.export import ExportError
 from camtol.report.html import CONVENTIONS, report_html, write_report
+from camtol.study import study
 
 EXAMPLES = example_names()
 
@@ -32,7 +33,7 @@ def analysis_of(name: str) -> Analysis:
 
 @cache
 def page_of(name: str) -> str:
-    return report_html(analysis_of(name))
+    return report_html(study(analysis_of(name)))
 
 
 def expected_figures(name: str) -> int:
@@ -83,14 +84,14 @@ def test_conjugate_report_has_fixture_verdicts() -> None:
 
 def test_write_report_from_design_and_atomic(tmp_path: Path) -> None:
     out = tmp_path / "r.html"
-    a = write_report(load_example("cw06-translating"), out)
+    a = write_report(study(load_example("cw06-translating")), out)
     assert a.design.name == "cw06-translating"
     assert out.read_text(encoding="utf-8").rstrip().endswith("</html>")
     assert [p.name for p in tmp_path.iterdir()] == ["r.html"]  # no temporary left over
     with pytest.raises(ExportError, match=r"\.html"):
-        write_report(a, tmp_path / "r.pdf")
+        write_report(study(a), tmp_path / "r.pdf")
     with pytest.raises(ExportError, match="does not exist"):
-        write_report(a, tmp_path / "missing" / "r.html")
+        write_report(study(a), tmp_path / "missing" / "r.html")
     assert [p.name for p in tmp_path.iterdir()] == ["r.html"]
 
 
@@ -177,7 +178,7 @@ def test_report_renders_in_chromium(name: str, tmp_path: Path) -> None:
     import numpy as np
 
     out = tmp_path / f"{name}.html"
-    write_report(analysis_of(name), out)
+    write_report(study(analysis_of(name)), out)
     # 1. The DOM holds every figure as an <svg>, and the page logs nothing to the console.
     r = run_chromium(out, tmp_path, "--dump-dom")
     assert r.returncode == 0, r.stderr[-2000:]
@@ -209,7 +210,7 @@ def test_report_prints_to_pdf(name: str, tmp_path: Path) -> None:
     # built-in examples print to 4-5 pages today (verdicts, inputs, conventions and
     # extremes, one page per figure); 3-8 allows for font metrics of other machines.
     out = tmp_path / f"{name}.html"
-    write_report(analysis_of(name), out)
+    write_report(study(analysis_of(name)), out)
     pdf = tmp_path / f"{name}.pdf"
     r = run_chromium(out, tmp_path, "--no-pdf-header-footer", f"--print-to-pdf={pdf}")
     assert r.returncode == 0, r.stderr[-2000:]
@@ -217,7 +218,7 @@ def test_report_prints_to_pdf(name: str, tmp_path: Path) -> None:
     pages = pdf_pages(pdf)
     assert 3 <= pages <= 8, pages
     if name == "roller-translating":  # the 1° radius table: 360 rows, a few more pages
-        write_report(analysis_of(name), out, radius_table_appendix=True)
+        write_report(study(analysis_of(name)), out, radius_table_appendix=True)
         r = run_chromium(out, tmp_path, "--no-pdf-header-footer", f"--print-to-pdf={pdf}")
         assert r.returncode == 0, r.stderr[-2000:]
         assert 3 <= pdf_pages(pdf) - pages <= 12

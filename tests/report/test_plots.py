@@ -17,6 +17,7 @@ from matplotlib.lines import Line2D
 
 from camtol.analysis import Analysis, analyse
 from camtol.config import example_names, load_example
+from camtol.drawing import analysis_drawing, cam_drawing
 from camtol.inspection import FixtureInspection, FixtureSpec, inspect_conjugate
 from camtol.kinematics import kinematics
 from camtol.report import plots
@@ -50,7 +51,8 @@ def assert_labelled(fig: Figure) -> None:
 
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_analysis_figure_axes_carry_units(name: str) -> None:
-    fig = plots.analysis_figure(analysis_of(name))
+    a = analysis_of(name)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
     assert isinstance(fig, Figure)
     assert len([ax for ax in fig.axes if ax.axison]) >= 6
     assert_labelled(fig)
@@ -108,12 +110,12 @@ def test_acceleration_jump_is_a_vertical_step() -> None:
 @pytest.mark.parametrize("theta_deg", [0.0, 60.0, 222.5])
 def test_cam_plot_marks_contact_point(name: str, theta_deg: float) -> None:
     design = load_example(name)
-    arts = plots.cam_plot(design, theta_deg)
+    arts = plots.cam_plot(cam_drawing(design, theta_deg))
     ax = arts[0].axes
     assert ax.get_xlabel() == "X [mm]" and ax.get_ylabel() == "Y [mm]"
     assert_labelled(ax.figure)
     if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import cam_design
+        from camtol.conjugate import cam_design
 
         design = cam_design(design, "A")
     k = kinematics(design, np.radians([theta_deg]), check=False)
@@ -170,7 +172,8 @@ def test_estimate_plot_needs_a_measurement() -> None:
 @pytest.mark.parametrize("fmt,magic", [("png", b"\x89PNG"), ("svg", b"<?xml")])
 def test_figure_saves_without_pyplot(fmt: str, magic: bytes) -> None:
     buf = io.BytesIO()
-    plots.analysis_figure(analysis_of("cw06-oscillating")).savefig(buf, format=fmt)
+    a = analysis_of("cw06-oscillating")
+    plots.analysis_figure(a, analysis_drawing(a)).savefig(buf, format=fmt)
     assert buf.getvalue().startswith(magic)
 
 
@@ -213,7 +216,7 @@ def test_cam_plot_and_figure_of_roller_followers() -> None:
         CamDesign("rt", RollerTranslating(40.0, 10.0, 5.0), program(22.0)),
         CamDesign("ro", RollerOscillating(40.0, 10.0, 80.0, 60.0), program(math.radians(15))),
     ):
-        arts = plots.cam_plot(design, 45.0)
+        arts = plots.cam_plot(cam_drawing(design, 45.0))
         k = kinematics(design, np.radians([45.0]), check=False)
         g = design.mechanism.contact(np.radians([45.0]), k.lift, k.velocity)
         c = (float(g.extras["pitch_x"][0]), float(g.extras["pitch_y"][0]))  # type: ignore[index]
@@ -227,5 +230,6 @@ def test_cam_plot_and_figure_of_roller_followers() -> None:
             and np.allclose(np.hypot(x.get_xdata() - c[0], x.get_ydata() - c[1]), rf)
         ]
         assert len(circles) == 1
-        fig = plots.analysis_figure(analyse(design, step_deg=1.0))
+        a = analyse(design, step_deg=1.0)
+        fig = plots.analysis_figure(a, analysis_drawing(a))
         assert_labelled(fig)

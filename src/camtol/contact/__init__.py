@@ -4,8 +4,8 @@ Shapes (:mod:`~camtol.contact.shapes`): analytic profiles with radial or normal 
 functions (:mod:`~camtol.contact.errors_profile`), and polygons with straight or
 circular-arc edges (measured point clouds, exported polylines, cut cams). Followers:
 flat faces (:mod:`~camtol.contact.flat`), rollers (:mod:`~camtol.contact.roller`) and the
-conjugate measuring fixture (:mod:`~camtol.contact.fixture`). :func:`follow` dispatches on
-the mechanism kind and returns a :class:`FollowerMotion` (the analytic engine's
+conjugate measuring fixture (:mod:`~camtol.contact.fixture`). :func:`follow` solves the
+follower's contact element and returns a :class:`FollowerMotion` (the analytic engine's
 :class:`~camtol.motion.MotionState` plus the contact point).
 
 Examples
@@ -14,14 +14,14 @@ Examples
 >>> from camtol.config import load_example
 >>> d = load_example("cw06-translating")
 >>> theta = np.radians([0.0, 60.0, 150.0])
->>> res = follow(theta, AnalyticShape(d.mechanism, d.program), d.mechanism)
+>>> res = follow(AnalyticShape(d.mechanism, d.program), d.mechanism, theta)
 >>> bool(np.allclose(res.lift, d.program.evaluate(theta).lift, atol=1e-9))
 True
 """
 
 from __future__ import annotations
 
-from camtol.contact.engine import FOLLOWERS, follow
+from camtol.contact.engine import follow
 from camtol.contact.errors_profile import (
     CallableError,
     FourierError,
@@ -33,7 +33,6 @@ from camtol.contact.result import FollowerMotion
 from camtol.contact.shapes import AnalyticShape, PolygonShape, Support
 
 __all__ = [
-    "FOLLOWERS",
     "AnalyticShape",
     "CallableError",
     "Fixture",

@@ -44,7 +44,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from camtol.contact.result import FollowerMotion
-from camtol.contact.roller import RollerPath, _check_clear, _solve_polygon
+from camtol.contact.roller_path import RollerPath, check_clear
+from camtol.contact.roller_polygon import solve_polygon
 from camtol.contact.shapes import AnalyticShape, PolygonShape
 from camtol.exceptions import GeometryError
 from camtol.jet import FloatArray
@@ -274,8 +275,8 @@ def simulate_fixture(
         )
     ta, tb = shape_a.snap(ta), shape_b.snap(tb)
     sys_ = _System(theta, shape_a, shape_b, fx, ta, tb, xi, fs, left_limit)
-    _check_clear(shape_a, sys_.cx, sys_.cy, fx.roller_c_mm, theta)
-    _check_clear(shape_b, sys_.dx, sys_.dy, fx.roller_d_mm, theta)
+    check_clear(shape_a, sys_.cx, sys_.cy, fx.roller_c_mm, theta)
+    check_clear(shape_b, sys_.dx, sys_.dy, fx.roller_d_mm, theta)
     # Implicit-function theorem: J dz/dθ = −∂G/∂θ.
     dz = np.asarray(
         np.linalg.solve(sys_.jacobian(), -sys_.theta_partials()[:, :, None])[:, :, 0], dtype=float
@@ -338,8 +339,8 @@ def _simulate_polygons(
     eta = fx.arm_angle_rad
     fs = np.full(theta.shape, fx.pivot_mm)
     for _ in range(max_iterations):
-        xa, _, _, aax, aay, fa = _solve_polygon(theta, poly_a, path_a, pivot=fs)
-        xb, _, _, bax, bay, fb = _solve_polygon(theta, poly_b, path_b, pivot=fs)
+        xa, _, _, aax, aay, fa = solve_polygon(theta, poly_a, path_a, pivot=fs)
+        xb, _, _, bax, bay, fb = solve_polygon(theta, poly_b, path_b, pivot=fs)
         # ξ_A = x_A (cam A arm), ξ_B = η − x_B (cam B arm): both rollers touch when equal.
         resid = xa + xb - eta
         _, da_f = _pivot_slopes(path_a, theta, xa, fs, aax, aay)
@@ -353,8 +354,8 @@ def _simulate_polygons(
             f"the fixture simulation on polygons did not converge within {max_iterations}"
             " iterations"
         )
-    xa, xa_t, _, aax, aay, fa = _solve_polygon(theta, poly_a, path_a, pivot=fs)
-    xb, xb_t, _, bax, bay, fb = _solve_polygon(theta, poly_b, path_b, pivot=fs)
+    xa, xa_t, _, aax, aay, fa = solve_polygon(theta, poly_a, path_a, pivot=fs)
+    xb, xb_t, _, bax, bay, fb = solve_polygon(theta, poly_b, path_b, pivot=fs)
     _, da_f = _pivot_slopes(path_a, theta, xa, fs, aax, aay)
     _, db_f = _pivot_slopes(path_b, theta, xb, fs, bax, bay)
     # F(θ, f*) = x_A + x_B − η = 0: f*' = −(x_A,θ + x_B,θ)/(x_A,f + x_B,f).

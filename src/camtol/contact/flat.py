@@ -29,16 +29,17 @@ order), and the fixed point is a face tangent to the hull: the exact answer.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from camtol.contact.result import FollowerMotion, implicit_derivatives
 from camtol.contact.shapes import AnalyticShape, PolygonShape, Support
-from camtol.exceptions import GeometryError
+from camtol.exceptions import DesignError, GeometryError
 from camtol.jet import FloatArray
-from camtol.mechanisms.flat_oscillating import FlatOscillating
-from camtol.mechanisms.flat_translating import FlatTranslating
+from camtol.mechanisms.base import Mechanism
+from camtol.mechanisms.elements import OscillatingFace, TranslatingFace
 from camtol.motion import MotionState
 
 __all__ = ["follow_flat_oscillating", "follow_flat_translating"]
@@ -53,25 +54,33 @@ def support(shape: Shape, psi_rad: FloatArray, left_limit: ArrayLike | None = No
     return shape.support(psi_rad)
 
 
+def _element(follower: Mechanism, kind: type[TranslatingFace] | type[OscillatingFace]) -> Any:
+    el = follower.contact_element()
+    if not isinstance(el, kind):
+        raise DesignError(f"follower type {follower.kind!r} is not a {kind.__name__} follower")
+    return el
+
+
 def follow_flat_translating(
-    theta_rad: ArrayLike,
     shape: Shape,
-    follower: FlatTranslating,
+    follower: Mechanism,
+    theta_rad: ArrayLike,
     *,
-    reference: FlatTranslating | None = None,
+    reference: Mechanism | None = None,
     left_limit: ArrayLike | None = None,
 ) -> FollowerMotion:
     """Exact lift of a translating oblique flat-faced follower on a shape.
 
     Parameters
     ----------
-    theta_rad : array_like
-        Cam angles. [rad]
     shape : AnalyticShape or PolygonShape
         The cam.
-    follower : FlatTranslating
-        The actual follower (offset e, face angle φ; r_b is not used).
-    reference : FlatTranslating, optional
+    follower : Mechanism
+        The actual follower, whose contact element is a
+        :class:`~camtol.mechanisms.elements.TranslatingFace` (offset e, face angle φ).
+    theta_rad : array_like
+        Cam angles. [rad]
+    reference : Mechanism, optional
         Follower whose base-circle position defines S = 0 (default: ``follower``);
         S = L − (r_b sec φ − e tan φ) of the reference.
     left_limit : array_like of bool, optional
@@ -83,14 +92,12 @@ def follow_flat_translating(
         S [mm], V [mm/rad], A [mm/rad²] and the contact point.
     """
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    ref = follower if reference is None else reference
-    phi, e = follower.face_angle_rad, follower.offset_mm
+    face: TranslatingFace = _element(follower, TranslatingFace)
+    zero = _element(follower if reference is None else reference, TranslatingFace).zero
+    phi, e = face.face_angle_rad, face.offset_mm
     cphi = math.cos(phi)
     psi = theta + phi
     sup = support(shape, psi, left_limit)
-    zero = ref.base_radius_mm / math.cos(ref.face_angle_rad) - ref.offset_mm * math.tan(
-        ref.face_angle_rad
-    )
     lift = (sup.h_mm - e * math.sin(phi)) / cphi - zero
     c, s = np.cos(psi), np.sin(psi)
     vel = (-sup.centre_x_mm * s + sup.centre_y_mm * c) / cphi
@@ -105,26 +112,28 @@ def follow_flat_translating(
     )
 
 
-def _initial_angle(shape: Shape, follower: FlatOscillating, theta: FloatArray) -> FloatArray:
+def _initial_angle(shape: Shape, face: OscillatingFace, theta: FloatArray) -> FloatArray:
     """Guess ξ to start the feature iteration. [rad]
 
     The nominal motion of the shape's own oscillating flat follower, else the angle on a
     circle of the shape's mean vertex radius.
     """
-    if isinstance(shape, AnalyticShape) and isinstance(shape.mechanism, FlatOscillating):
-        return shape.mechanism.initial_angle_rad + shape.program.evaluate(theta).lift
+    if isinstance(shape, AnalyticShape):
+        own = shape.mechanism.contact_element() if shape.mechanism.has_face else None
+        if isinstance(own, OscillatingFace):
+            return own.zero + shape.program.evaluate(theta).lift
     poly = shape.polygon if isinstance(shape, AnalyticShape) else shape
     r = float(np.mean(np.hypot(poly.vertices_mm[:, 0], poly.vertices_mm[:, 1])))
-    ratio = (r - follower.face_offset_mm) / follower.pivot_distance_mm
+    ratio = (r - face.face_offset_mm) / face.pivot_distance_mm
     return np.full(theta.shape, math.asin(min(max(ratio, -0.999), 0.999)))
 
 
 def follow_flat_oscillating(
-    theta_rad: ArrayLike,
     shape: Shape,
-    follower: FlatOscillating,
+    follower: Mechanism,
+    theta_rad: ArrayLike,
     *,
-    reference: FlatOscillating | None = None,
+    reference: Mechanism | None = None,
     left_limit: ArrayLike | None = None,
     initial_rad: ArrayLike | None = None,
     max_iterations: int = 100,
@@ -133,13 +142,14 @@ def follow_flat_oscillating(
 
     Parameters
     ----------
-    theta_rad : array_like
-        Cam angles. [rad]
     shape : AnalyticShape or PolygonShape
         The cam.
-    follower : FlatOscillating
-        The actual follower (pivot distance f, face offset e; r_b is not used).
-    reference : FlatOscillating, optional
+    follower : Mechanism
+        The actual follower, whose contact element is an
+        :class:`~camtol.mechanisms.elements.OscillatingFace` (pivot distance f, offset e).
+    theta_rad : array_like
+        Cam angles. [rad]
+    reference : Mechanism, optional
         Follower whose ξ0 = asin((r_b − e)/f) defines S = 0 (default: ``follower``).
     left_limit : array_like of bool, optional
         Rows taking one-sided (left) derivatives at profile boundaries.
@@ -161,10 +171,11 @@ def follow_flat_oscillating(
         If the face cannot touch the shape (|e − ρ| > distance) or does not converge.
     """
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    ref = follower if reference is None else reference
-    f, e = follower.pivot_distance_mm, follower.face_offset_mm
+    face: OscillatingFace = _element(follower, OscillatingFace)
+    zero = _element(follower if reference is None else reference, OscillatingFace).zero
+    f, e = face.pivot_distance_mm, face.face_offset_mm
     xi = (
-        _initial_angle(shape, follower, theta)
+        _initial_angle(shape, face, theta)
         if initial_rad is None
         else np.broadcast_to(np.asarray(initial_rad, dtype=float), theta.shape).copy()
     )
@@ -218,7 +229,7 @@ def follow_flat_oscillating(
         c_n,
         -c_n + f * np.sin(xi),
     )
-    lift = xi - ref.initial_angle_rad
+    lift = xi - zero
     return FollowerMotion(
         theta_rad=theta,
         motion=MotionState(lift, v, acc, np.full_like(lift, np.nan)),

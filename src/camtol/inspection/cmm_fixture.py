@@ -157,7 +157,7 @@ def compare_cmm_fixture(
         )
     n = check_step(step_deg, name="--step", min_points=4)
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    fac = conjugate_factors(theta, design)
+    fac = conjugate_factors(design, theta)
     dr_a = normal_a(theta).v / np.cos(fac.shift_a_rad) * 1e3
     dr_b = normal_b(theta).v / np.cos(fac.shift_b_rad) * 1e3
     twin = simulate_fixture(

@@ -24,11 +24,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from camtol.conjugate import conjugate_kinematics
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
-from camtol.mechanisms.conjugate import ConjugatePair, conjugate_kinematics
+from camtol.mechanisms.conjugate import ConjugatePair
 
 __all__ = [
     "ConjugateFactors",
@@ -129,21 +130,40 @@ def _pair(design: CamDesign) -> ConjugatePair:
     return design.mechanism
 
 
-def conjugate_factors(theta_rad: ArrayLike, design: CamDesign) -> ConjugateFactors:
+def conjugate_factors(design: CamDesign, theta_rad: ArrayLike) -> ConjugateFactors:
     """Evaluate φ, α, λ of both cams over θ (THEORY §2.4, §2.5).
 
     Parameters
     ----------
-    theta_rad : array_like
-        Cam angles. [rad]
     design : CamDesign
         A conjugate design.
+    theta_rad : array_like
+        Cam angles. [rad]
+
+    Returns
+    -------
+    ConjugateFactors
+        Both cams' angles on the grid.
 
     Raises
     ------
     GeometryError, UndercutError
         If either cam cannot work (with the cam angle).
+
+    Notes
+    -----
+    Design first, then angles, as everywhere in camtol; the former order
+    ``conjugate_factors(theta_rad, design)`` still works with a DeprecationWarning.
     """
+    if isinstance(theta_rad, CamDesign) and not isinstance(design, CamDesign):
+        import warnings
+
+        warnings.warn(
+            "conjugate_factors(design, theta) is deprecated; use conjugate_factors( theta, design)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        design, theta_rad = theta_rad, design
     pair = _pair(design)
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     k = conjugate_kinematics(design, theta)

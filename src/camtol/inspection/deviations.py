@@ -136,7 +136,9 @@ def profile_tolerance(
             from camtol.kinematics import kinematics
 
             theta = np.linspace(0.0, 2 * math.pi, 3601)
-            r_max = float(kinematics(design, theta, check=False).radius_mm.max())
+            cams = design.cams()  # the inspected cam (A or B of a pair)
+            single = next((c.design for c in cams if c.label in (cam, "")), cams[0].design)
+            r_max = float(kinematics(single, theta, check=False).radius_mm.max())
             dev = next(t for t in design.resolve_tolerances(r_max) if t.key == key)
             return -dev.deviation * 1e3, dev.deviation * 1e3, kind  # type: ignore[return-value]
     return None

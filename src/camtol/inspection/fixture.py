@@ -174,7 +174,7 @@ def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureIn
 
     def margin_fn(cam: str) -> Callable[[FloatArray], FloatArray]:
         def margin(t: FloatArray) -> FloatArray:
-            f = conjugate_factors(t, design)
+            f = conjugate_factors(design, t)
             b = acceptance_bands(
                 f,
                 spec.tolerance_a_um,
@@ -214,7 +214,7 @@ def _fixture_parts(
     ConjugateVariation | None,
 ]:
     """Geometry, variation, estimate, bands and (with a measurement) the prediction."""
-    fac = conjugate_factors(theta, design)
+    fac = conjugate_factors(design, theta)
     bands = acceptance_bands(
         fac, spec.tolerance_a_um, spec.tolerance_b_um, spec.master_a, spec.master_b, spec.errors
     )

@@ -220,7 +220,7 @@ def functional_deviation(
         err = source
     mech, program = profile.mechanism, profile.design.program
     shape = AnalyticShape(mech, program, normal_error=SampledFourier(err))
-    motion = follow(theta, shape, mech)
+    motion = follow(shape, mech, theta)
     nominal = program.evaluate(theta)
     sens = mech.error_sensitivities(theta, nominal.lift, nominal.velocity)["n"]
     ds_lin = np.asarray(jet.value(sens), dtype=float) * err(theta).v

@@ -561,7 +561,7 @@ def record_estimates(
     u_fn = ErrorFunction.table(processed.theta_deg, processed.u_f_um, name="u_f")
 
     def parts(t: FloatArray) -> tuple[FloatArray, InverseEstimate, InverseEstimate]:
-        fac = conjugate_factors(t, design)
+        fac = conjugate_factors(design, t)
         args = (spec.master_a, spec.master_b, spec.errors)
         return u_fn(t), inverse_estimate(fac, up_fn, *args), inverse_estimate(fac, lo_fn, *args)
 

@@ -335,7 +335,7 @@ def simulate_cut(
     h = TWO_PI / m
     theta = np.arange(m, dtype=float) * h
     nominal = design.program.evaluate(theta)
-    motion = follow(theta, cut.shape, design.mechanism)
+    motion = follow(cut.shape, design.mechanism, theta)
     err = motion.lift - nominal.lift
     s = motion.lift
     a_central = (np.roll(s, 1) + np.roll(s, -1) - 2.0 * s) / h**2

@@ -11,26 +11,54 @@ from __future__ import annotations
 import dataclasses
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import ClassVar, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from camtol import jet
 from camtol.jet import FloatArray, JetLike
+from camtol.mechanisms.elements import (
+    ContactElement,
+    OscillatingFace,
+    Outline,
+    RollerGuide,
+    TranslatingFace,
+    face_segment,
+    point,
+)
+from camtol.mechanisms.spec import (
+    FOLLOWER_TYPES,
+    Parameter,
+    length,
+    offset,
+    register_follower,
+)
 
 OutputKind = Literal["translating", "oscillating"]
 SourceUnit = Literal["mm", "rad"]
+M = TypeVar("M", bound="Mechanism")
 
 __all__ = [
+    "FOLLOWER_TYPES",
+    "ContactElement",
     "ContactGeometry",
     "ErrorSource",
     "Mechanism",
+    "OscillatingFace",
+    "Outline",
     "OutputKind",
-    "RollerMechanism",
-    "roller_undercut_mask",
+    "Parameter",
+    "RollerGuide",
+    "TranslatingFace",
+    "length",
+    "offset",
+    "register_follower",
     "shift_angle",
+    "face_segment",
+    "point",
 ]
 
 
@@ -120,6 +148,140 @@ class Mechanism(ABC):
     output: ClassVar[OutputKind]
     #: Error sources understood by :meth:`sensitivities`, in report order.
     sources: ClassVar[tuple[ErrorSource, ...]]
+    #: Dimensions as written in the ``[follower]`` table (empty: not a file type).
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    #: One-line name of the follower for summaries, e.g. "translating roller".
+    title: ClassVar[str] = ""
+    #: Closed form of the radial-error factor ΔS_r/Δr shown by ``analyze`` (THEORY §3).
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr"
+    #: The contact point moves along a flat face (``analyze`` reports u).
+    has_face: ClassVar[bool] = False
+    #: Position in lists of follower types (messages, documentation).
+    listing_order: ClassVar[int] = 100
+
+    @classmethod
+    def from_parameters(cls: type[M], values: Mapping[str, float | None]) -> M:
+        """Build the mechanism from file values (keys: :attr:`Parameter.name`).
+
+        Omitted optional fields take their defaults; degrees become radians.
+
+        Parameters
+        ----------
+        values : mapping of str to float or None
+            Values in file units, keyed by file field name. [mm or deg]
+
+        Returns
+        -------
+        Mechanism
+            The validated mechanism.
+
+        Raises
+        ------
+        DesignError
+            If the dimensions are inconsistent (message naming the file fields).
+        """
+        kwargs = {p.attribute: p.to_internal(values.get(p.name, p.default)) for p in cls.parameters}
+        return cls(**kwargs)
+
+    def parameter_values(self) -> dict[str, float]:
+        """File values of :attr:`parameters` (radians back to degrees; None left out).
+
+        Returns
+        -------
+        dict of str to float
+            Values keyed by file field name. [mm or deg]
+        """
+        out: dict[str, float] = {}
+        for p in self.parameters:
+            v = getattr(self, p.attribute)
+            if v is not None:
+                out[p.name] = math.degrees(v) if p.unit == "deg" else float(v)
+        return out
+
+    def field_name(self, attribute: str) -> str:
+        """Return the file field name of a dataclass field, ``follower.<name>``.
+
+        Parameters
+        ----------
+        attribute : str
+            Dataclass field, e.g. ``"arm_length_mm"``.
+
+        Returns
+        -------
+        str
+            ``"follower." + name`` as the file writes it.
+        """
+        for p in self.parameters:
+            if p.attribute == attribute:
+                return f"follower.{p.name}"
+        return f"follower.{attribute}"
+
+    def contact_element(self) -> ContactElement:
+        """Return what the contact engine solves for this follower (THEORY §5).
+
+        Returns
+        -------
+        RollerGuide or TranslatingFace or OscillatingFace
+            The follower's contact element with its output datum.
+
+        Raises
+        ------
+        DesignError
+            If the follower type has no exact-contact solver.
+        """
+        from camtol.exceptions import DesignError
+
+        raise DesignError(f"follower type {self.kind!r} has no exact-contact solver")
+
+    def undercut_message(self, curvature_radius_mm: float, theta_deg: float) -> str:
+        """Say why the profile cannot be generated at one angle (flat faces: ρ ≤ 0).
+
+        Parameters
+        ----------
+        curvature_radius_mm : float
+            Signed profile radius of curvature there. [mm]
+        theta_deg : float
+            Cam angle. [deg]
+
+        Returns
+        -------
+        str
+            The reason, without the remedy.
+        """
+        return (
+            f"the profile is not convex: radius of curvature {curvature_radius_mm:.4g} mm at"
+            f" θ={theta_deg:.2f}° (cusp/undercut); a {self.kind} follower needs ρ > 0"
+            " everywhere"
+        )
+
+    @property
+    def pivot_clearance_mm(self) -> float | None:
+        """Distance from the cam centre to the follower pivot, which the cam must not reach.
+
+        None for a translating follower. [mm]
+        """
+        return None
+
+    def outline(self, theta_rad: float, lift: float, velocity: float, scale_mm: float) -> Outline:
+        """Return the follower at one cam angle, in the cam frame, for drawing.
+
+        Parameters
+        ----------
+        theta_rad : float
+            Cam angle θ. [rad]
+        lift : float
+            Follower output S(θ). [mm, or rad for an oscillating follower]
+        velocity : float
+            V = dS/dθ. [mm/rad or rad/rad]
+        scale_mm : float
+            Size of the drawing (the base radius): lengths of stems and faces. [mm]
+
+        Returns
+        -------
+        Outline
+            Circles, segments and pivots (empty by default). [mm]
+        """
+        return Outline()
 
     @abstractmethod
     def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
@@ -363,51 +525,3 @@ def require_finite(field: str, value: float) -> None:
 
     if not math.isfinite(value):
         raise DesignError(f"{field}={value!r} is not allowed; it must be a finite number")
-
-
-def roller_undercut_mask(
-    curvature_radius_mm: FloatArray, roller_radius_mm: float
-) -> NDArray[np.bool_]:
-    """Where a roller cannot generate the profile (THEORY §2.3, undercut).
-
-    Parameters
-    ----------
-    curvature_radius_mm : ndarray
-        Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
-    roller_radius_mm : float
-        Roller radius r_f. [mm]
-
-    Returns
-    -------
-    ndarray of bool
-        True where the convex pitch curve is sharper than the roller, 0 < ρ_pitch ≤ r_f,
-        i.e. −r_f < ρ ≤ 0. A concave pitch curve (ρ ≤ −r_f) is fine for a roller.
-    """
-    rho = np.asarray(curvature_radius_mm, dtype=float)
-    return np.asarray((rho <= 0.0) & (rho > -roller_radius_mm))
-
-
-class RollerMechanism(Mechanism):
-    """A mechanism whose follower touches the cam through a roller (THEORY §2.3, §2.4).
-
-    It carries the roller's undercut rule once for every roller follower: a concave
-    stretch of the profile is fine, a convex pitch curve sharper than the roller is not.
-    """
-
-    #: Roller radius r_f, defined as a field by each concrete mechanism. [mm]
-    roller_radius_mm: float
-
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Undercut where the convex pitch curve is sharper than the roller (THEORY §2.3).
-
-        Parameters
-        ----------
-        curvature_radius_mm : ndarray
-            Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
-
-        Returns
-        -------
-        ndarray of bool
-            See :func:`roller_undercut_mask`.
-        """
-        return roller_undercut_mask(curvature_radius_mm, self.roller_radius_mm)

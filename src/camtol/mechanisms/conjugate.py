@@ -4,10 +4,11 @@ Two cams A and B on one shaft drive one follower with two arms (lengths l_A, l_B
 angle η between them) carrying rollers C and D. Cam A pushes the follower up (ξ grows),
 cam B pushes it back. Each cam is a single-contact :class:`~camtol.mechanisms.base.Mechanism`
 sharing the follower angle ξ(θ): :class:`~camtol.mechanisms.roller_oscillating.RollerOscillating`
-for cam A and :class:`ConjugateCamB` (the mirrored closed forms) for cam B, so the analytic
-engine (:func:`camtol.kinematics.kinematics`) runs per cam. :class:`ConjugatePair` is the
-pair; as a Mechanism it stands for cam A (so a single-contact analysis of a conjugate
-design is cam A's), and :func:`conjugate_kinematics` returns both cams' results.
+for cam A and :class:`ConjugateCamB` (the mirrored closed forms) for cam B.
+:class:`ConjugatePair` is the pair as written in a design file; its
+:meth:`~ConjugatePair.cams` gives cams A and B, and every analysis runs per cam
+(:meth:`camtol.design.CamDesign.cams`). The pair's own physics (both cams together, the
+measuring fixture) is in :mod:`camtol.conjugate` and :mod:`camtol.contact.fixture`.
 
 References
 ----------
@@ -24,23 +25,25 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 from camtol import jet
-from camtol.design import CamDesign
-from camtol.exceptions import DesignError, GeometryError
+from camtol.exceptions import DesignError
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import Kinematics, kinematics
 from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
     Mechanism,
     OutputKind,
-    RollerMechanism,
+    Parameter,
+    RollerGuide,
+    length,
+    register_follower,
     require_positive,
 )
+from camtol.mechanisms.roller_common import RollerMechanism
 from camtol.mechanisms.roller_oscillating import (
     RollerOscillating,
+    check_arm_reaches_prime_circle,
     oscillating_roller_contact,
     oscillating_roller_lean_sensitivities,
     oscillating_roller_pitch,
@@ -48,7 +51,7 @@ from camtol.mechanisms.roller_oscillating import (
 )
 from camtol.mechanisms.roller_translating import pitch_curvature_radius
 
-__all__ = ["ConjugateCamB", "ConjugateKinematics", "ConjugatePair", "conjugate_kinematics"]
+__all__ = ["ConjugateCamB", "ConjugatePair"]
 
 
 @dataclass(frozen=True)
@@ -163,6 +166,24 @@ class ConjugateCamB(RollerMechanism):
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
 
+    def contact_element(self) -> RollerGuide:
+        """Return roller D on arm B (ξ = η − γ); S = 0 at ξ0 of the pair."""
+        return RollerGuide(
+            "circle",
+            self.roller_radius_mm,
+            pivot_mm=self.pivot_distance_mm,
+            arm_mm=self.arm_length_mm,
+            side=1,
+            sign=-1.0,
+            shift=self.arm_angle_rad,
+            zero=self.initial_angle_rad,
+        )
+
+    @property
+    def pivot_clearance_mm(self) -> float:
+        """The pivot distance f, which the cam must not reach. [mm]"""
+        return self.pivot_distance_mm
+
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension, r_D, l_B, f, η in degrees."""
         return {
@@ -185,6 +206,7 @@ class ConjugateCamB(RollerMechanism):
         ]
 
 
+@register_follower
 @dataclass(frozen=True)
 class ConjugatePair(Mechanism):
     r"""Conjugate cams A and B with an oscillating double-roller follower (THEORY §2.4).
@@ -206,9 +228,11 @@ class ConjugatePair(Mechanism):
 
     Notes
     -----
-    As a :class:`~camtol.mechanisms.base.Mechanism` the pair stands for cam A (its contact,
-    sensitivities and curvature are cam A's, :attr:`cam_a`); :attr:`cam_b` is cam B, and
-    :func:`conjugate_kinematics` evaluates both. The follower turns with the cam during a
+    The pair is two cams, not one: :meth:`cams` gives cam A (:attr:`cam_a`) and cam B
+    (:attr:`cam_b`), and every single-contact evaluation (contact, sensitivities,
+    curvature, contact engine) goes through them; the pair's own ones raise.
+    :func:`camtol.conjugate.conjugate_kinematics` evaluates both together. Its error
+    sources and their IT nominal sizes are cam A's. The follower turns with the cam during a
     rise (THEORY §0), q = fV/(1 − V).
     """
 
@@ -221,8 +245,29 @@ class ConjugatePair(Mechanism):
     roller_b_radius_mm: float | None = None
 
     kind: ClassVar[str] = "conjugate"
+    listing_order: ClassVar[int] = 5
     output: ClassVar[OutputKind] = "oscillating"
-    #: Cam A's sources; ``rf`` is roller C, ``l`` arm A (the pair stands for cam A).
+    title: ClassVar[str] = "conjugate cams, oscillating double roller"
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / (l cos φ)"
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        length("base_radius_mm", "base-circle radius r_b of cam A"),
+        length("roller_radius_mm", "radius r_C of roller C (on cam A)"),
+        length(
+            "roller_b_radius_mm", "radius r_D of roller D (on cam B); default r_C", optional=True
+        ),
+        length("pivot_distance_mm", "centre distance f = |O2O3|"),
+        length("arm_a_mm", "arm length l_A = |O3C|"),
+        length("arm_b_mm", "arm length l_B = |O3D|"),
+        Parameter(
+            "arm_angle_deg",
+            "arm_angle_rad",
+            "angle η between the arms",
+            0.0,
+            180.0,
+            exclusive=True,
+        ),
+    )
+    #: The tolerances of a pair are cam A's: ``rf`` is roller C, ``l`` arm A.
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -232,6 +277,10 @@ class ConjugatePair(Mechanism):
     )
 
     def __post_init__(self) -> None:
+        require_positive("follower.base_radius_mm", self.base_radius_mm)
+        require_positive("follower.roller_radius_mm", self.roller_radius_mm)
+        require_positive("follower.pivot_distance_mm", self.pivot_distance_mm)
+        require_positive("follower.arm_a_mm", self.arm_a_mm)
         require_positive("follower.arm_b_mm", self.arm_b_mm)
         if self.roller_b_radius_mm is not None:
             require_positive("follower.roller_b_radius_mm", self.roller_b_radius_mm)
@@ -240,7 +289,13 @@ class ConjugatePair(Mechanism):
                 f"follower.arm_angle_deg={math.degrees(self.arm_angle_rad):g} is not allowed;"
                 " the angle η between the arms must lie strictly between 0 and 180"
             )
-        self.cam_a  # validates cam A's dimensions  # noqa: B018
+        # cam A's arm must reach its prime circle; named as the file names it (arm_a_mm)
+        check_arm_reaches_prime_circle(
+            self.pivot_distance_mm,
+            self.arm_a_mm,
+            self.base_radius_mm + self.roller_radius_mm,
+            "arm_a_mm",
+        )
 
     def perturbed(self, source: str, delta: float) -> Mechanism:
         """Return a copy with a source of cam A moved (see :meth:`Mechanism.perturbed`).
@@ -297,19 +352,31 @@ class ConjugatePair(Mechanism):
         """ξ0 of the follower (cam A's base circle). [rad]"""
         return self.cam_a.initial_angle_rad
 
+    def _not_a_cam(self) -> DesignError:
+        return DesignError(
+            "a conjugate pair is two cams: evaluate each through design.cams() (cam A:"
+            " .cam_a, cam B: .cam_b)"
+        )
+
     def contact(self, theta: JetLike, lift: JetLike, velocity: JetLike) -> ContactGeometry:
-        """Cam A's contact geometry (THEORY §2.4)."""
-        return self.cam_a.contact(theta, lift, velocity)
+        """Not defined for the pair: it has two contacts (use :meth:`cams`).
+
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
-        """Cam A's single-contact sensitivities (THEORY §3.3)."""
-        return self.cam_a.sensitivities(geometry, theta)
+        """Not defined for the pair (use :meth:`cams`).
 
-    def error_sensitivities(
-        self, theta: JetLike, lift: JetLike, velocity: JetLike
-    ) -> dict[str, JetLike]:
-        """Cam A's lean form (the pair stands for cam A)."""
-        return self.cam_a.error_sensitivities(theta, lift, velocity)
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
 
     def curvature_radius(
         self,
@@ -318,12 +385,29 @@ class ConjugatePair(Mechanism):
         velocity: FloatArray,
         acceleration: FloatArray,
     ) -> FloatArray:
-        """Cam A's signed profile radius of curvature. [mm]"""
-        return self.cam_a.curvature_radius(theta_rad, lift, velocity, acceleration)
+        """Not defined for the pair (use :meth:`cams`).
 
-    def undercut_mask(self, curvature_radius_mm: FloatArray) -> NDArray[np.bool_]:
-        """Cam A's undercut mask."""
-        return self.cam_a.undercut_mask(curvature_radius_mm)
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
+
+    def contact_element(self) -> RollerGuide:
+        """Not defined for the pair: the fixture holds both rollers (use :meth:`cams`).
+
+        Raises
+        ------
+        DesignError
+            Always.
+        """
+        raise self._not_a_cam()
+
+    @property
+    def pivot_clearance_mm(self) -> float:
+        """The pivot distance f, which the cams must not reach. [mm]"""
+        return self.pivot_distance_mm
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """Cam A's IT-grade nominal sizes."""
@@ -332,7 +416,7 @@ class ConjugatePair(Mechanism):
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""
         return [
-            ("follower", "conjugate cams, oscillating double roller"),
+            ("follower", self.title),
             ("base radius r_b (cam A)", f"{self.base_radius_mm:g} mm"),
             ("roller radii r_C, r_D", f"{self.roller_radius_mm:g} mm, {self.roller_d_mm:g} mm"),
             ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
@@ -340,111 +424,3 @@ class ConjugatePair(Mechanism):
             ("arm angle η", f"{math.degrees(self.arm_angle_rad):g}°"),
             ("initial follower angle ξ0", f"{math.degrees(self.initial_angle_rad):.4f}°"),
         ]
-
-
-@dataclass(frozen=True)
-class ConjugateKinematics:
-    """Both cams of a conjugate pair on one θ grid.
-
-    Attributes
-    ----------
-    a, b : Kinematics
-        Per-cam kinematics (contact points, radial dimension, signed φ, λ, ρ, ξ).
-    centre_line_angle_a_rad, centre_line_angle_b_rad : ndarray
-        α_A, α_B of THEORY §2.4. [rad]
-    pitch_a_x_mm, pitch_a_y_mm, pitch_b_x_mm, pitch_b_y_mm : ndarray
-        Roller centres C and D in the cam frame. [mm]
-    """
-
-    a: Kinematics
-    b: Kinematics
-    centre_line_angle_a_rad: FloatArray
-    centre_line_angle_b_rad: FloatArray
-    pitch_a_x_mm: FloatArray
-    pitch_a_y_mm: FloatArray
-    pitch_b_x_mm: FloatArray
-    pitch_b_y_mm: FloatArray
-
-    @property
-    def theta_rad(self) -> FloatArray:
-        """The grid. [rad]"""
-        return self.a.theta_rad
-
-
-def _pair(design: CamDesign) -> ConjugatePair:
-    mech = design.mechanism
-    if not isinstance(mech, ConjugatePair):
-        raise DesignError(
-            f"follower.type={mech.kind!r} is not a conjugate pair; this analysis needs"
-            " follower.type='conjugate'"
-        )
-    return mech
-
-
-def cam_design(design: CamDesign, cam: str) -> CamDesign:
-    """Return the single-contact design of cam ``"A"`` or ``"B"`` of a conjugate design.
-
-    Parameters
-    ----------
-    design : CamDesign
-        Design whose mechanism is a :class:`ConjugatePair`.
-    cam : {"A", "B"}
-        Which cam.
-    """
-    pair = _pair(design)
-    mech: Mechanism = pair.cam_a if cam == "A" else pair.cam_b
-    return dataclasses.replace(design, mechanism=mech, tolerances=(), name=f"{design.name} ({cam})")
-
-
-def conjugate_kinematics(
-    design: CamDesign,
-    theta_rad: ArrayLike,
-    *,
-    left_limit: ArrayLike | None = None,
-    check: bool = True,
-) -> ConjugateKinematics:
-    """Evaluate both cams of a conjugate design over θ (THEORY §2.4).
-
-    Parameters
-    ----------
-    design : CamDesign
-        Design whose mechanism is a :class:`ConjugatePair`.
-    theta_rad : array_like
-        Cam angles from the line of centres. [rad]
-    left_limit : array_like of bool, optional
-        Rows that take the left limit at segment boundaries.
-    check : bool
-        Raise on undercut, V ≥ 1 or |φ| ≥ 90° of either cam (with the cam angle).
-
-    Raises
-    ------
-    GeometryError, UndercutError
-        As :func:`camtol.kinematics.kinematics`, for cam A or cam B.
-    """
-    pair = _pair(design)
-    theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    kins = []
-    for cam in ("A", "B"):
-        try:
-            kins.append(
-                kinematics(cam_design(design, cam), theta, left_limit=left_limit, check=check)
-            )
-        except GeometryError as exc:  # name the cam (same class: UndercutError stays one)
-            raise type(exc)(f"cam {cam}: {exc}") from None
-    kin_a, kin_b = kins
-    ga = pair.cam_a.contact(theta, kin_a.lift, kin_a.velocity)
-    gb = pair.cam_b.contact(theta, kin_b.lift, kin_b.velocity)
-
-    def v(x: JetLike) -> FloatArray:
-        return np.asarray(jet.value(x), dtype=float)
-
-    return ConjugateKinematics(
-        a=kin_a,
-        b=kin_b,
-        centre_line_angle_a_rad=v(ga.extras["centre_line_angle"]),
-        centre_line_angle_b_rad=v(gb.extras["centre_line_angle"]),
-        pitch_a_x_mm=v(ga.extras["pitch_x"]),
-        pitch_a_y_mm=v(ga.extras["pitch_y"]),
-        pitch_b_x_mm=v(gb.extras["pitch_x"]),
-        pitch_b_y_mm=v(gb.extras["pitch_y"]),
-    )

@@ -22,7 +22,15 @@ from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
     Mechanism,
+    OscillatingFace,
+    Outline,
     OutputKind,
+    Parameter,
+    face_segment,
+    length,
+    offset,
+    point,
+    register_follower,
     require_finite,
     require_positive,
     shift_angle,
@@ -31,6 +39,7 @@ from camtol.mechanisms.base import (
 __all__ = ["FlatOscillating"]
 
 
+@register_follower
 @dataclass(frozen=True)
 class FlatOscillating(Mechanism):
     r"""Oscillating flat-faced follower; output ξ in radians.
@@ -73,7 +82,16 @@ class FlatOscillating(Mechanism):
     face_offset_mm: float = 0.0
 
     kind: ClassVar[str] = "flat_oscillating"
+    listing_order: ClassVar[int] = 2
     output: ClassVar[OutputKind] = "oscillating"
+    title: ClassVar[str] = "oscillating flat-faced"
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / u"
+    has_face: ClassVar[bool] = True
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        length("base_radius_mm", "base-circle radius r_b"),
+        length("pivot_distance_mm", "centre distance f = |O2O3|"),
+        offset("face_offset_mm", "offset e of the face from the pivot"),
+    )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -184,6 +202,27 @@ class FlatOscillating(Mechanism):
                 + f * (acceleration * np.cos(xi) / one_v**3 - velocity**2 * np.sin(xi) / one_v**2)
             )
 
+    def contact_element(self) -> OscillatingFace:
+        """Return the face for the contact engine; S = 0 at ξ0."""
+        return OscillatingFace(self.pivot_distance_mm, self.face_offset_mm, self.initial_angle_rad)
+
+    @property
+    def pivot_clearance_mm(self) -> float:
+        """The pivot distance f, which the cam must not reach. [mm]"""
+        return self.pivot_distance_mm
+
+    def outline(self, theta_rad: float, lift: float, velocity: float, scale_mm: float) -> Outline:
+        """Face through A, arm from O3 to the face's foot, pivot O3 (see base class)."""
+        g = self.contact(np.array([theta_rad]), np.array([lift]), np.array([velocity]))
+        a = (point(g.contact_x), point(g.contact_y))
+        f = self.pivot_distance_mm
+        o3 = (f * math.cos(theta_rad), f * math.sin(theta_rad))
+        psi = theta_rad + math.pi / 2.0 - (self.initial_angle_rad + lift)
+        d = (-math.sin(psi), math.cos(psi))
+        k = (o3[0] - a[0]) * d[0] + (o3[1] - a[1]) * d[1]
+        foot = (a[0] + k * d[0], a[1] + k * d[1])
+        return Outline(segments=(face_segment(a, foot, d, scale_mm), (o3, foot)), pivots=(o3,))
+
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, f, |e|."""
         return {
@@ -196,7 +235,7 @@ class FlatOscillating(Mechanism):
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""
         return [
-            ("follower", "oscillating flat-faced"),
+            ("follower", self.title),
             ("base radius r_b", f"{self.base_radius_mm:g} mm"),
             ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),
             ("face offset e", f"{self.face_offset_mm:g} mm"),

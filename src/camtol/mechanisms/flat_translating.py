@@ -22,7 +22,15 @@ from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
     Mechanism,
+    Outline,
     OutputKind,
+    Parameter,
+    TranslatingFace,
+    face_segment,
+    length,
+    offset,
+    point,
+    register_follower,
     require_finite,
     require_positive,
     shift_angle,
@@ -31,6 +39,7 @@ from camtol.mechanisms.base import (
 __all__ = ["FlatTranslating"]
 
 
+@register_follower
 @dataclass(frozen=True)
 class FlatTranslating(Mechanism):
     r"""Offset translating oblique flat-faced follower.
@@ -67,7 +76,25 @@ class FlatTranslating(Mechanism):
     face_angle_rad: float = 0.0
 
     kind: ClassVar[str] = "flat_translating"
+    listing_order: ClassVar[int] = 1
     output: ClassVar[OutputKind] = "translating"
+    title: ClassVar[str] = "translating oblique flat-faced"
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / cos φ"
+    has_face: ClassVar[bool] = True
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        length("base_radius_mm", "base-circle radius r_b"),
+        offset("offset_mm", "offset e of the translation line"),
+        Parameter(
+            "face_angle_deg",
+            "face_angle_rad",
+            "face obliquity φ (the constant pressure angle)",
+            -90.0,
+            90.0,
+            0.0,
+            required=False,
+            exclusive=True,
+        ),
+    )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -157,6 +184,30 @@ class FlatTranslating(Mechanism):
             self.base_radius_mm + (lift + acceleration) * math.cos(self.face_angle_rad)
         )
 
+    def contact_element(self) -> TranslatingFace:
+        """Return the face for the contact engine; S = 0 at L = r_b sec φ − e tan φ."""
+        phi, e = self.face_angle_rad, self.offset_mm
+        return TranslatingFace(phi, e, self.base_radius_mm / math.cos(phi) - e * math.tan(phi))
+
+    def outline(self, theta_rad: float, lift: float, velocity: float, scale_mm: float) -> Outline:
+        """Face through A and P, stem along t from P, line of motion (see base class)."""
+        phi, e = self.face_angle_rad, self.offset_mm
+        g = self.contact(np.array([theta_rad]), np.array([lift]), np.array([velocity]))
+        a = (point(g.contact_x), point(g.contact_y))
+        t = (math.cos(theta_rad), math.sin(theta_rad))
+        w = (-t[1], t[0])
+        big_l = self.contact_element().zero + lift
+        p = (e * w[0] + big_l * t[0], e * w[1] + big_l * t[1])
+        d = (-math.sin(theta_rad + phi), math.cos(theta_rad + phi))
+        stem = (p[0] + 0.8 * scale_mm * t[0], p[1] + 0.8 * scale_mm * t[1])
+        base = (e * w[0], e * w[1])
+        far = (base[0] + 2.0 * scale_mm * t[0], base[1] + 2.0 * scale_mm * t[1])
+        return Outline(
+            segments=(face_segment(a, p, d, scale_mm), (p, stem)),
+            guides=((base, far),),
+            labels=(("P", p[0], p[1]),),
+        )
+
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, |e|, |φ| in degrees."""
         return {
@@ -169,7 +220,7 @@ class FlatTranslating(Mechanism):
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""
         return [
-            ("follower", "translating oblique flat-faced"),
+            ("follower", self.title),
             ("base radius r_b", f"{self.base_radius_mm:g} mm"),
             ("offset e", f"{self.offset_mm:g} mm"),
             ("face angle φ", f"{math.degrees(self.face_angle_rad):g}°"),

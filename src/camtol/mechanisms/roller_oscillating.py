@@ -28,14 +28,19 @@ from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
     OutputKind,
-    RollerMechanism,
+    Parameter,
+    RollerGuide,
+    length,
+    register_follower,
     require_positive,
     shift_angle,
 )
+from camtol.mechanisms.roller_common import RollerMechanism
 from camtol.mechanisms.roller_translating import pitch_curvature_radius
 
 __all__ = [
     "RollerOscillating",
+    "check_arm_reaches_prime_circle",
     "oscillating_roller_contact",
     "oscillating_roller_lean_sensitivities",
     "oscillating_roller_pitch",
@@ -250,6 +255,35 @@ def oscillating_roller_lean_sensitivities(
     }
 
 
+def check_arm_reaches_prime_circle(
+    pivot_mm: float, arm_mm: float, prime_radius_mm: float, arm_field: str
+) -> None:
+    """Raise unless an arm of length l about O3 can reach the prime circle (THEORY §2.4).
+
+    Parameters
+    ----------
+    pivot_mm, arm_mm : float
+        Centre distance f and arm length l. [mm]
+    prime_radius_mm : float
+        r_b + r_f. [mm]
+    arm_field : str
+        The arm's field name as the design file writes it (for the message).
+
+    Raises
+    ------
+    DesignError
+        Unless |f − l| < r_b + r_f < f + l.
+    """
+    f, l_, rp = pivot_mm, arm_mm, prime_radius_mm
+    if not abs(f - l_) < rp < f + l_:
+        raise DesignError(
+            f"follower.{arm_field}={l_:g} with pivot_distance_mm={f:g} cannot put the"
+            f" roller on the prime circle r_b + r_f = {rp:g} mm; need |f − l| < r_b + r_f"
+            " < f + l"
+        )
+
+
+@register_follower
 @dataclass(frozen=True)
 class RollerOscillating(RollerMechanism):
     r"""Oscillating roller follower (cam A of THEORY §2.4 alone); output ξ in radians.
@@ -280,7 +314,16 @@ class RollerOscillating(RollerMechanism):
     arm_length_mm: float
 
     kind: ClassVar[str] = "roller_oscillating"
+    listing_order: ClassVar[int] = 4
     output: ClassVar[OutputKind] = "oscillating"
+    title: ClassVar[str] = "oscillating roller"
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / (l cos φ)"
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        length("base_radius_mm", "base-circle radius r_b of the cam profile"),
+        length("roller_radius_mm", "roller radius r_f"),
+        length("pivot_distance_mm", "centre distance f = |O2O3|"),
+        length("arm_length_mm", "arm length l = |O3C|"),
+    )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -296,13 +339,9 @@ class RollerOscillating(RollerMechanism):
         require_positive("follower.roller_radius_mm", self.roller_radius_mm)
         require_positive("follower.pivot_distance_mm", self.pivot_distance_mm)
         require_positive("follower.arm_length_mm", self.arm_length_mm)
-        f, l_, rp = self.pivot_distance_mm, self.arm_length_mm, self.prime_radius_mm
-        if not abs(f - l_) < rp < f + l_:
-            raise DesignError(
-                f"follower.arm_length_mm={l_:g} with pivot_distance_mm={f:g} cannot put the"
-                f" roller on the prime circle r_b + r_f = {rp:g} mm; need |f − l| < r_b + r_f"
-                " < f + l"
-            )
+        check_arm_reaches_prime_circle(
+            self.pivot_distance_mm, self.arm_length_mm, self.prime_radius_mm, "arm_length_mm"
+        )
 
     @property
     def prime_radius_mm(self) -> float:
@@ -371,6 +410,22 @@ class RollerOscillating(RollerMechanism):
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
 
+    def contact_element(self) -> RollerGuide:
+        """Return the roller on its arm (cam A side); S = 0 at ξ0."""
+        return RollerGuide(
+            "circle",
+            self.roller_radius_mm,
+            pivot_mm=self.pivot_distance_mm,
+            arm_mm=self.arm_length_mm,
+            side=-1,
+            zero=self.initial_angle_rad,
+        )
+
+    @property
+    def pivot_clearance_mm(self) -> float:
+        """The pivot distance f, which the cam must not reach. [mm]"""
+        return self.pivot_distance_mm
+
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, r_f, l, f."""
         return {
@@ -384,7 +439,7 @@ class RollerOscillating(RollerMechanism):
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""
         return [
-            ("follower", "oscillating roller"),
+            ("follower", self.title),
             ("base radius r_b", f"{self.base_radius_mm:g} mm"),
             ("roller radius r_f", f"{self.roller_radius_mm:g} mm"),
             ("pivot distance f", f"{self.pivot_distance_mm:g} mm"),

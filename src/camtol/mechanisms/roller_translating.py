@@ -23,12 +23,16 @@ from camtol.mechanisms.base import (
     ContactGeometry,
     ErrorSource,
     OutputKind,
-    RollerMechanism,
+    Parameter,
+    RollerGuide,
+    length,
+    offset,
+    register_follower,
     require_finite,
     require_positive,
-    roller_undercut_mask,
     shift_angle,
 )
+from camtol.mechanisms.roller_common import RollerMechanism, roller_undercut_mask
 
 __all__ = ["RollerTranslating", "pitch_curvature_radius", "roller_undercut_mask"]
 
@@ -58,6 +62,7 @@ def pitch_curvature_radius(cx: Jet, cy: Jet) -> FloatArray:
         return np.asarray(speed**3 / cross)
 
 
+@register_follower
 @dataclass(frozen=True)
 class RollerTranslating(RollerMechanism):
     r"""Offset translating roller follower; output S in mm.
@@ -88,7 +93,15 @@ class RollerTranslating(RollerMechanism):
     offset_mm: float = 0.0
 
     kind: ClassVar[str] = "roller_translating"
+    listing_order: ClassVar[int] = 3
     output: ClassVar[OutputKind] = "translating"
+    title: ClassVar[str] = "translating roller"
+    radial_factor_label: ClassVar[str] = "ΔS_r/Δr = cos λ / cos φ"
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        length("base_radius_mm", "base-circle radius r_b of the cam profile"),
+        length("roller_radius_mm", "roller radius r_f"),
+        offset("offset_mm", "offset e of the translation line"),
+    )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr", "mm"),
         ErrorSource("n", "normal profile error Δn", "mm"),
@@ -228,6 +241,10 @@ class RollerTranslating(RollerMechanism):
         assert isinstance(cx, Jet) and isinstance(cy, Jet)
         return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
 
+    def contact_element(self) -> RollerGuide:
+        """Return the roller on its line of motion; S = 0 at the axial position s0."""
+        return RollerGuide("line", self.roller_radius_mm, offset_mm=self.offset_mm, zero=self.s0_mm)
+
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """IT-grade nominal sizes: max radial dimension for r and n, r_f, |e|."""
         return {
@@ -240,7 +257,7 @@ class RollerTranslating(RollerMechanism):
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""
         return [
-            ("follower", "translating roller"),
+            ("follower", self.title),
             ("base radius r_b", f"{self.base_radius_mm:g} mm"),
             ("roller radius r_f", f"{self.roller_radius_mm:g} mm"),
             ("offset e", f"{self.offset_mm:g} mm"),

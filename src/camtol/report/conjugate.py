@@ -22,8 +22,6 @@ from camtol.inspection.acceptance import merge_intervals
 from camtol.inspection.fixture import FixtureInspection
 from camtol.inspection.spec import FixtureSpec
 from camtol.jet import FloatArray
-from camtol.kinematics import kinematics
-from camtol.mechanisms.conjugate import cam_design
 
 if TYPE_CHECKING:
     from camtol.inspection.record import RecordEstimates
@@ -60,8 +58,7 @@ def conjugate_profile_columns(
     dict of str to ndarray
         The columns with the cam A/B renaming and cam B's columns added, in CSV order.
     """
-    k = a.kinematics
-    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    kb = a.cam_kinematics("B")
     out: dict[str, np.ndarray[Any, Any]] = {}
     for name, values in cols.items():
         if name == "x_mm":
@@ -98,8 +95,7 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
         Cam B's largest radius and smallest radius of curvature [mm], where it occurs, and
         the ranges of its pressure and shift angles [deg].
     """
-    k = a.kinematics
-    kb = kinematics(cam_design(a.design, "B"), k.theta_rad, left_limit=k.left_limit, check=False)
+    kb = a.cam_kinematics("B")
     i = int(np.argmin(kb.curvature_radius_mm))
     return {
         "max_radius_mm": float(kb.radius_mm.max()),

@@ -92,7 +92,7 @@ def _extra_mm(design: CamDesign, key: str) -> float | None:
 
 
 def _bore_hub(design: CamDesign, r_min_mm: float) -> list[tuple[str, float]]:
-    from camtol.report.export import ExportError
+    from camtol.exceptions import ExportError
 
     bore = _extra_mm(design, "bore_diameter_mm")
     hub = _extra_mm(design, "hub_diameter_mm")
@@ -142,7 +142,7 @@ def drawing_marks(
 
     Raises
     ------
-    camtol.report.export.ExportError
+    camtol.exceptions.ExportError
         A bore or hub diameter not smaller than the profile (or a bore not inside the hub).
     """
     r_all = np.concatenate([np.hypot(x, y) for _, x, y in profiles])

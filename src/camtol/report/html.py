@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.analysis import Analysis, analyse
 from camtol.design import IT_CONVENTIONS, CamDesign
 from camtol.report.qa import (
     PRINT_CSS,
@@ -33,10 +32,13 @@ from camtol.report.qa import (
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from camtol.analysis import Analysis
+    from camtol.study import Study
+
 __all__ = ["CONVENTIONS", "InspectionReport", "figure_svg", "report_html", "write_report"]
 
-#: Sentinel: "inspect the design's own [inspection] table" (the default of report_html).
-_FROM_DESIGN: Any = object()
+#: Sentinel: "the study's own fixture inspection" (the default of report_html).
+_FROM_STUDY: Any = object()
 
 #: Conventions of THEORY §0 stated in every report.
 CONVENTIONS: tuple[str, ...] = (
@@ -133,13 +135,10 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _inspection(design: CamDesign) -> InspectionReport | None:
-    spec = design.inspection
-    if design.mechanism.kind != "conjugate" or spec is None:
+def _inspection(study: Study) -> InspectionReport | None:
+    if study.fixture is None or study.fixture_spec is None:
         return None
-    from camtol.inspection.fixture import inspect_conjugate
-
-    return InspectionReport(inspect_conjugate(design, spec), spec)
+    return InspectionReport(study.fixture, study.fixture_spec)
 
 
 def _banner(v: OverallVerdict) -> str:
@@ -174,7 +173,7 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
         f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
         ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
     ]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         from camtol.report.conjugate import conjugate_analysis_json
 
         b = conjugate_analysis_json(a)
@@ -225,9 +224,9 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
 
 
 def report_html(
-    design_or_analysis: CamDesign | Analysis,
+    study: Study,
     *,
-    fixture: InspectionReport | None = _FROM_DESIGN,
+    fixture: InspectionReport | None = _FROM_STUDY,
     traceability: dict[str, str] | None = None,
     radius_table_appendix: bool = False,
 ) -> str:
@@ -235,11 +234,13 @@ def report_html(
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`; the report only
+        formats it.
     fixture : InspectionReport or None, optional
-        A finished fixture inspection to report (``camtol report --df-mea/--record``);
-        None for none; by default the design's own ``[inspection]`` table is inspected.
+        A finished fixture inspection to report (``camtol report --df-mea/--record``,
+        with its decision rule and record); None for none; by default the study's own
+        fixture inspection (simple decision rule).
     traceability : dict of str to str, optional
         Traceability fields (keys of :data:`camtol.report.qa.TRACEABILITY_FIELDS`); they
         override the design's ``[traceability]`` table.
@@ -254,14 +255,10 @@ def report_html(
     from camtol import __version__
     from camtol.report.plots import analysis_figure, fixture_figure
 
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
+    a = study.analysis
     d = a.design
-    if fixture is _FROM_DESIGN:
-        fixture = _inspection(d)
+    if fixture is _FROM_STUDY:
+        fixture = _inspection(study)
     verdict = overall_verdict(a, fixture)
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
@@ -333,7 +330,7 @@ def report_html(
     parts.append("<h2>Conventions and assumptions</h2><ul>")
     parts += [f"<li>{_e(c)}</li>" for c in CONVENTIONS]
     parts += [f"<li>IT grades: {_e(c)}</li>" for c in IT_CONVENTIONS]
-    if d.mechanism.kind == "conjugate":
+    if len(d.cams()) > 1:
         parts.append(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
@@ -351,7 +348,7 @@ def report_html(
     parts.append("<h2>Figures</h2>")
     figures: list[tuple[Any, str]] = [
         (
-            analysis_figure(a),
+            analysis_figure(a, study.drawing),
             "The cam and follower at the angle of the largest worst-case error (with the"
             " pitch curve of a roller); the nominal motion S, V, A, J (at the design speed"
             " when given); shift and pressure angles with the pressure-angle limit;"
@@ -402,10 +399,10 @@ def report_html(
 
 
 def write_report(
-    design_or_analysis: CamDesign | Analysis,
+    study: Study,
     path: str | Path,
     *,
-    fixture: InspectionReport | None = _FROM_DESIGN,
+    fixture: InspectionReport | None = _FROM_STUDY,
     traceability: dict[str, str] | None = None,
     radius_table_appendix: bool = False,
 ) -> Analysis:
@@ -413,8 +410,8 @@ def write_report(
 
     Parameters
     ----------
-    design_or_analysis : CamDesign or Analysis
-        A design (analysed with the default 0.1° step) or a finished analysis.
+    study : Study
+        Every result the report shows, from :func:`camtol.study.study`.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
     fixture : InspectionReport or None, optional
@@ -431,10 +428,8 @@ def write_report(
 
     Raises
     ------
-    camtol.report.export.ExportError
+    camtol.exceptions.ExportError
         Wrong suffix or missing directory; nothing is written.
-    GeometryError, UndercutError, DesignError
-        The design cannot be analysed; nothing is written.
 
     Notes
     -----
@@ -445,7 +440,7 @@ def write_report(
     :func:`~camtol.report.plots.fixture_figure`). The file is written to a temporary name
     and renamed into place.
     """
-    from camtol.report.export import ExportError
+    from camtol.exceptions import ExportError
     from camtol.report.files import atomic_write
 
     p = Path(path)
@@ -455,18 +450,13 @@ def write_report(
         )
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
-    a = (
-        design_or_analysis
-        if isinstance(design_or_analysis, Analysis)
-        else analyse(design_or_analysis)
-    )
     atomic_write(
         p,
         report_html(
-            a,
+            study,
             fixture=fixture,
             traceability=traceability,
             radius_table_appendix=radius_table_appendix,
         ),
     )
-    return a
+    return study.analysis

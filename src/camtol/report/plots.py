@@ -25,17 +25,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report._figstyle import (
-    _COLOURS,
-    _axes,
-    _label,
-    _legend_outside,
-    _stamp,
-    _theta_axis,
-    pretty_unit,
-)
-from camtol.report.cam_drawing import cam_plot
-from camtol.report.fixture_plots import (
+from camtol.report._figstyle import _legend_outside, _stamp
+from camtol.report.plot_style import COLOURS as _COLOURS
+from camtol.report.plot_style import axes, pretty_unit
+from camtol.report.plot_style import axes as _axes
+from camtol.report.plot_style import axis_label as _label
+from camtol.report.plot_style import theta_axis as _theta_axis
+from camtol.report.plots_fixture import (
     acceptance_plot,
     conjugate_variation_plot,
     fixture_figure,
@@ -47,6 +43,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from camtol.analysis import Analysis
+    from camtol.drawing import CamDrawing
+    from camtol.mechanisms.elements import Outline
 
 __all__ = [
     "acceleration_error_plot",
@@ -271,6 +269,107 @@ def acceleration_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[
 
 
 # ---------------------------------------------------------------------------------------
+# The cam and follower at one angle
+# ---------------------------------------------------------------------------------------
+def _segment(ax: Axes, p: Any, q: Any, **kw: Any) -> list[Any]:
+    return list(ax.plot([p[0], q[0]], [p[1], q[1]], **kw))
+
+
+def cam_plot(drawing: CamDrawing, ax: Axes | None = None) -> list[Any]:
+    """Draw the cam with its base circle and the follower at the drawing's cam angle.
+
+    Parameters
+    ----------
+    drawing : CamDrawing
+        From :func:`camtol.drawing.cam_drawing` (every cam of the design, both cams of a
+        conjugate pair).
+    ax : matplotlib Axes, optional
+        Where to draw.
+
+    Returns
+    -------
+    list
+        The artists drawn.
+
+    Notes
+    -----
+    Drawn in the cam frame X-Y of THEORY §0 (origin O2 at the cam pivot): the cam is
+    fixed and the follower stands where it is at θ, seen from the cam. Also marked: the
+    contact point A, the instant centre Q = I23 and the common normal AQ (THEORY §2).
+    The follower is the mechanism's own outline (rollers, faces, arms, pivots).
+    """
+    made_here = ax is None
+    ax = axes(ax, (6.0, 6.0))
+    arts: list[Any] = []
+    labelled = len(drawing.cams) > 1
+    for i, cam in enumerate(drawing.cams):
+        name = f"cam {cam.label}" if labelled else "cam profile"
+        colour = ("k", "#1f4e9c")[i % 2]
+        arts += ax.plot(cam.profile_x_mm, cam.profile_y_mm, color=colour, lw=1.5, label=name)
+        if cam.pitch_x_mm is not None and cam.pitch_y_mm is not None:
+            arts += ax.plot(
+                cam.pitch_x_mm,
+                cam.pitch_y_mm,
+                color=colour,
+                lw=0.8,
+                ls="-.",
+                label=f"pitch curve {cam.label}".rstrip(),
+            )
+    rb = drawing.base_radius_mm
+    phi = np.linspace(0.0, 2.0 * math.pi, 361)
+    arts += ax.plot(
+        rb * np.cos(phi), rb * np.sin(phi), color="0.55", lw=0.8, ls=":", label="base circle"
+    )
+    arts += ax.plot([0.0], [0.0], "k+", ms=10, mew=1.5)
+    arts.append(ax.annotate("O2", (0.0, 0.0), xytext=(4, 4), textcoords="offset points"))
+    style: dict[str, Any] = {"color": "#2c7f2c", "lw": 2.0}
+    pivots: set[tuple[float, float]] = set()
+    for cam in drawing.cams:
+        arts += _draw_outline(ax, cam.outline, style, pivots)
+    c0 = drawing.cams[0]
+    a = (c0.contact_x_mm, c0.contact_y_mm)
+    qv = (c0.centre_x_mm, c0.centre_y_mm)
+    arts += _segment(ax, a, qv, color="#d62728", lw=0.8, ls="--", label="common normal AQ")
+    arts += ax.plot([qv[0]], [qv[1]], "o", color="#d62728", ms=4)
+    arts.append(ax.annotate("Q", qv, xytext=(4, -10), textcoords="offset points"))
+    for cam in drawing.cams:
+        arts += ax.plot([cam.contact_x_mm], [cam.contact_y_mm], "ko", ms=4)
+    arts.append(ax.annotate("A", a, xytext=(4, 4), textcoords="offset points"))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("X [mm]")
+    ax.set_ylabel("Y [mm]")
+    ax.set_title(f"{drawing.design_name}: follower at θ = {drawing.theta_deg:g}° (cam frame)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    _legend_outside(ax)
+    _stamp(ax, drawing.design_name, made_here)
+    return arts
+
+
+def _draw_outline(
+    ax: Axes, outline: Outline, style: dict[str, Any], pivots: set[tuple[float, float]]
+) -> list[Any]:
+    """Draw a follower outline; a pivot shared by two cams is drawn once."""
+    arts: list[Any] = []
+    phi = np.linspace(0.0, 2.0 * math.pi, 121)
+    for x, y, r in outline.circles:
+        arts += ax.plot(x + r * np.cos(phi), y + r * np.sin(phi), **style)
+    for p, q in outline.segments:
+        arts += _segment(ax, p, q, **style)
+    for p, q in outline.guides:
+        arts += _segment(ax, p, q, color="0.5", lw=0.6, ls="-.")
+    for text, x, y in outline.labels:
+        arts.append(ax.annotate(text, (x, y), xytext=(4, -10), textcoords="offset points"))
+    for o3 in outline.pivots:
+        key = (round(o3[0], 9), round(o3[1], 9))
+        if key in pivots:
+            continue
+        pivots.add(key)
+        arts += ax.plot([o3[0]], [o3[1]], "o", mfc="white", mec="k", ms=7)
+        arts.append(ax.annotate("O3", o3, xytext=(5, 5), textcoords="offset points"))
+    return arts
+
+
+# ---------------------------------------------------------------------------------------
 # The whole figure of `camtol analyze --plot`
 # ---------------------------------------------------------------------------------------
 def _motion_peaks(analysis: Analysis) -> Any:
@@ -357,7 +456,7 @@ def svaj_plot(analysis: Analysis, axs: list[Axes] | None = None) -> list[Any]:
     return arts
 
 
-def analysis_figure(analysis: Analysis, *, cam_angle_deg: float | None = None) -> Figure:
+def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Figure:
     """Draw the paper-like multi-panel figure of an analysis (CW06 Figs. 4-9).
 
     Panels: the cam (with the pitch curve of a roller) and follower at a chosen angle
@@ -371,8 +470,10 @@ def analysis_figure(analysis: Analysis, *, cam_angle_deg: float | None = None) -
     ----------
     analysis : Analysis
         Result of :func:`camtol.analysis.analyse`.
-    cam_angle_deg : float, optional
-        Cam angle at which to draw the cam and follower. [deg]
+    drawing : CamDrawing
+        The cam and follower to draw in the first panel (e.g. from
+        :func:`camtol.drawing.analysis_drawing`, at the angle where the worst-case error
+        is largest).
 
     Returns
     -------
@@ -387,8 +488,9 @@ def analysis_figure(analysis: Analysis, *, cam_angle_deg: float | None = None) -
     fig = Figure(figsize=(14.0, 20.0), layout="constrained")
     gs = fig.add_gridspec(4, 2, height_ratios=(1.4, 1.0, 1.0, 1.0))
     worst = analysis.extremes["dS_worst"][0]
-    at = round(worst.theta_deg, 2) if cam_angle_deg is None else cam_angle_deg
-    cam_plot(analysis.design, at, ax=fig.add_subplot(gs[0, 0]))
+    if drawing is None:
+        raise TypeError("analysis_figure needs the drawing (camtol.drawing.analysis_drawing)")
+    cam_plot(drawing, ax=fig.add_subplot(gs[0, 0]))
     svaj = gs[0, 1].subgridspec(4, 1, hspace=0.05)
     svaj_axes = [fig.add_subplot(svaj[i]) for i in range(4)]
     svaj_plot(analysis, svaj_axes)

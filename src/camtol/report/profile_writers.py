@@ -16,7 +16,7 @@ import numpy as np
 from camtol.report.drawing_marks import DrawingMarks, add_dxf_marks, svg_marks, xml_escape
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.report.export import ProfilePoints
+    from camtol.profile import ProfilePoints
 
 __all__ = ["dxf_bytes", "svg_text"]
 

@@ -241,11 +241,9 @@ def radius_table(design: CamDesign, *, step_deg: float = 1.0) -> RadiusTable:
 
     polar = np.arange(0.0, 360.0, step_deg)
     grid, left = analysis_grid(0.02, design.program.boundaries_rad)
-    cams: list[tuple[str, CamDesign]] = [("", design)]
-    if design.mechanism.kind == "conjugate":
-        from camtol.mechanisms.conjugate import cam_design
-
-        cams = [("_A", cam_design(design, "A")), ("_B", cam_design(design, "B"))]
+    cams: list[tuple[str, CamDesign]] = [
+        (f"_{c.label}" if c.label else "", c.design) for c in design.cams()
+    ]
     cols: dict[str, FloatArray] = {}
     for tag, d in cams:
         k = kinematics(d, grid, left_limit=left, check=False)

@@ -103,7 +103,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
             for q in a.quantities
         ],
     }
-    if mech.kind == "conjugate":  # the errors above are cam A's; cam B's geometry here
+    if len(a.design.cams()) > 1:  # the errors above are cam A's; cam B's geometry here
         from camtol.report.conjugate import conjugate_analysis_json
 
         out["cam_b"] = conjugate_analysis_json(a)
@@ -158,7 +158,7 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
     for prefix, unit in (("dS", err_unit), ("dV", vunit), ("dA", aunit)):
         for n in names:
             cols[f"{prefix}_{n}_{_file_unit(unit)}"] = a.curves[f"{prefix}_{n}"]
-    if a.design.mechanism.kind == "conjugate":  # both cams' profiles and angles
+    if len(a.design.cams()) > 1:  # both cams' profiles and angles
         from camtol.report.conjugate import conjugate_profile_columns
 
         cols = conjugate_profile_columns(a, cols)
@@ -248,7 +248,7 @@ def print_analysis(a: Analysis, *, console: Any = None) -> None:
             "contact on face u",
             f"{k.face_contact_mm.min():.3f} .. {k.face_contact_mm.max():.3f} mm (size the face)",
         )
-    if d.mechanism.kind == "conjugate":  # the rows above are cam A's; cam B's geometry here
+    if len(d.cams()) > 1:  # the rows above are cam A's; cam B's geometry here
         from camtol.report.conjugate import conjugate_analysis_json
 
         b = conjugate_analysis_json(a)

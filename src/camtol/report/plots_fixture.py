@@ -17,7 +17,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report._figstyle import _COLOURS, _axes, _label, _legend_outside, _stamp, _theta_axis
+from camtol.report._figstyle import _legend_outside, _stamp
+from camtol.report.plot_style import COLOURS as _COLOURS
+from camtol.report.plot_style import axes as _axes
+from camtol.report.plot_style import axis_label as _label
+from camtol.report.plot_style import theta_axis as _theta_axis
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
