@@ -324,6 +324,7 @@ def report(
                 " --cmm-a/-b, --decision need a conjugate design (follower.type = 'conjugate')"
             )
         from camtol.drawing import analysis_drawing
+        from camtol.radius_table import radius_table as make_radius_table
         from camtol.study import Study
 
         given = {k: v for k, v in traceability.items() if v is not None}
@@ -332,7 +333,7 @@ def report(
             output,
             fixture=fixture,
             traceability=given,
-            radius_table_appendix=radius_table,
+            radius_table=make_radius_table(d) if radius_table else None,
         )
         verdict = overall_verdict(a, fixture)
         worst = a.extremes["dS_worst"][0]

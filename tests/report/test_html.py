@@ -19,6 +19,7 @@ from camtol.analysis import Analysis, analyse
 from camtol.cli import main
 from camtol.config import example_names, load_example
 from camtol.design import IT_CONVENTIONS
+from camtol.radius_table import radius_table
 from camtol.report.export import ExportError
 from camtol.report.html import CONVENTIONS, report_html, write_report
 from camtol.study import study
@@ -218,7 +219,7 @@ def test_report_prints_to_pdf(name: str, tmp_path: Path) -> None:
     pages = pdf_pages(pdf)
     assert 3 <= pages <= 8, pages
     if name == "roller-translating":  # the 1° radius table: 360 rows, a few more pages
-        write_report(study(analysis_of(name)), out, radius_table_appendix=True)
+        write_report(study(analysis_of(name)), out, radius_table=radius_table(load_example(name)))
         r = run_chromium(out, tmp_path, "--no-pdf-header-footer", f"--print-to-pdf={pdf}")
         assert r.returncode == 0, r.stderr[-2000:]
         assert 3 <= pdf_pages(pdf) - pages <= 12
