@@ -10,8 +10,10 @@ error, 5 outliers). Targets (issue 12):
   motion) ≤ 100 ms.
 
 The nominal profile table (built once per cam, :mod:`camtol.inspection.profile_table`) is
-timed separately. Baseline measured in the same run: the closest points of the 3,600-point
-scan by Newton's method on the exact profile jets (what the table replaces).
+timed separately. Baselines measured in the same run: the closest points of the 3,600-point
+scan by Newton's method on the exact profile jets (what the table replaces), and the
+normal equations of the Fourier smoothing (3,600 points, 100 harmonics) formed from the
+design matrix A as AᵀA, O(N·K²), against the trigonometric moments, O(N·K).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from common import Figure, print_figures  # noqa: E402
 from camtol.config import load_example  # noqa: E402
 from camtol.contact import AnalyticShape  # noqa: E402
 from camtol.inspection.deviations import cam_profile  # noqa: E402
-from camtol.inspection.functional import functional_deviation  # noqa: E402
+from camtol.inspection.functional import _normal_equations, functional_deviation  # noqa: E402
 from camtol.inspection.registration import Datum, register  # noqa: E402
 from camtol.inspection.twin import random_profile_error, simulate_scan  # noqa: E402
 
@@ -64,6 +66,13 @@ def _newton_on_jets(shape: AnalyticShape, px: np.ndarray, py: np.ndarray) -> np.
         if np.max(np.abs(dt)) < 1e-13:
             break
     return t
+
+
+def _normal_equations_from_a(t: np.ndarray, v: np.ndarray, k_max: int) -> object:
+    """Baseline: AᵀA and Aᵀv formed from the design matrix A = [1, cos kt, sin kt]."""
+    arg = np.multiply.outer(t, np.arange(1, k_max + 1))
+    a = np.concatenate([np.ones((t.size, 1)), np.cos(arg), np.sin(arg)], axis=1)
+    return a.T @ a, a.T @ v
 
 
 def main() -> list[Figure]:
@@ -102,6 +111,11 @@ def main() -> list[Figure]:
     insp = _inspection(d, prof, x1, y1)
     functional_deviation(prof, insp, step_deg=0.1)  # type: ignore[arg-type]  (warm-up)
     t_func, _ = best_of(lambda: functional_deviation(prof, insp, step_deg=0.1), 5, "func")  # type: ignore[arg-type]
+    t_fit = np.mod(insp.param_rad, 2 * math.pi)  # type: ignore[attr-defined]
+    v_fit = insp.dn_um * 1e-3  # type: ignore[attr-defined]
+    best_of(lambda: _normal_equations(t_fit, v_fit, 100), 9, "moments")
+    best_of(lambda: _normal_equations_from_a(t_fit, v_fit, 100), 9, "gram")
+    t_mom, t_gram = CPU["moments"], CPU["gram"]  # CPU time: the machine may be shared
     print("CMM inspection benchmark: cam A of cw11-experiment, simulated scans")
     print(f"  profile table (once per cam, not in the figures): {t_table * 1e3:.1f} ms")
     print(
@@ -129,6 +143,14 @@ def main() -> list[Figure]:
             "ms",
             100.0,
             note=f"CPU {CPU['func'] * 1e3:.1f} ms",
+        ),
+        Figure(
+            "inspection: Fourier normal equations, A^T A / moments",
+            t_gram / t_mom,
+            "x",
+            2.0,
+            at_least=True,
+            note=f"CPU {t_mom * 1e3:.1f} ms vs {t_gram * 1e3:.1f} ms",
         ),
         Figure(
             "inspection: closest points, exact-jet Newton / table",

@@ -26,6 +26,7 @@ BENCHMARKS = [
     "bench_inspection",
     "bench_manufacturing",
     "bench_record",
+    "bench_store",
 ]
 
 if __name__ == "__main__":

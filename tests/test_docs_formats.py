@@ -10,6 +10,7 @@ gives a cam speed) are documented with their per-radian form.
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import json
 import re
@@ -24,6 +25,7 @@ from camtol.config import example_names
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "file-formats.md"
 
 
+@functools.cache
 def _documented() -> tuple[set[str], list[re.Pattern[str]]]:
     text = re.sub(r"^```.*?^```", "", PAGE.read_text(encoding="utf-8"), flags=re.M | re.S)
     names = set(re.findall(r"`([^`\n]+)`", text))
@@ -128,3 +130,62 @@ def test_profile_csv_columns_are_documented(tmp_path: Path) -> None:
     words, _ = _documented()
     missing = sorted(layer for layer in layers if layer not in words)
     assert header[0] == "theta_deg" and not missing, f"layers not documented: {missing}"
+
+
+def _csv_header(path: Path) -> list[str]:
+    """The column names of a CSV file written by camtol (``#`` comment lines skipped)."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    return next(ln for ln in lines if ln and not ln.startswith("#")).split(",")
+
+
+def _undocumented(names: set[str] | list[str]) -> list[str]:
+    return sorted(n for n in names if not _is_documented(n))
+
+
+def test_cmm_outputs_are_documented(tmp_path: Path) -> None:
+    # Issue 12: camtol simulate cmm (scan + .truth.json), simulate record, inspect
+    # (--json, --curves, --motion, for a swing and a lift, with a motion spec) and
+    # conjugate --cmm-a/--cmm-b (--json, --curves).
+    a, b, rec = tmp_path / "a.csv", tmp_path / "b.csv", tmp_path / "rec.csv"
+    for cam, path in (("A", a), ("B", b)):
+        args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(path), "--cam", cam]
+        args += ["--error-rms-um", "20", "--outliers", "2", "--stylus-radius-mm", "1"]
+        assert _run(args)[0] == 0
+        assert not _undocumented(_csv_header(path)), _csv_header(path)
+        truth = json.loads(path.with_name(path.stem + ".truth.json").read_text())
+        assert not _undocumented(_keys(truth)), f"truth JSON: {_undocumented(_keys(truth))}"
+    args = ["simulate", "record", "-e", "cw11-experiment", "-o", str(rec)]
+    args += [
+        "--truth-a",
+        str(tmp_path / "a.truth.json"),
+        "--truth-b",
+        str(tmp_path / "b.truth.json"),
+    ]
+    assert _run(args)[0] == 0
+    assert not _undocumented(_csv_header(rec)), f"record: {_undocumented(_csv_header(rec))}"
+    lift = tmp_path / "lift.csv"
+    assert _run(["simulate", "cmm", "-e", "roller-translating", "-o", str(lift)])[0] == 0
+    runs = [
+        ("cw11-experiment", a, ["--cam", "A", "--stylus-radius-mm", "1", "--spec-deg", "1"]),
+        ("roller-translating", lift, ["--spec-um", "1000"]),
+    ]
+    for example, scan, extra in runs:
+        curves, motion = tmp_path / "c.csv", tmp_path / "m.csv"
+        args = ["inspect", "-e", example, "--points", str(scan), "--json", *extra]
+        code, out = _run([*args, "--curves", str(curves), "--motion", str(motion)])
+        assert code in (0, 1)
+        for what, names in (
+            ("--json", _keys(json.loads(out))),
+            ("--curves", _csv_header(curves)),
+            ("--motion", _csv_header(motion)),
+        ):
+            missing = _undocumented(names)
+            assert not missing, f"inspect {what} of {example} not documented: {missing}"
+    curves = tmp_path / "fixture.csv"
+    args = ["conjugate", "-e", "cw11-experiment", "--record", str(rec), "--json"]
+    args += ["--cmm-a", str(a), "--cmm-b", str(b), "--cmm-stylus-radius-mm", "1"]
+    args += ["--cmm-datum", "centre:0,0,0", "--curves", str(curves)]
+    code, out = _run(args)
+    assert code in (0, 1)
+    missing = _undocumented(_keys(json.loads(out))) + _undocumented(_csv_header(curves))
+    assert not missing, f"conjugate --cmm-a/--cmm-b outputs not documented: {missing}"

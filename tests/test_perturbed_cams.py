@@ -184,3 +184,19 @@ def test_the_pair_is_not_a_single_cam() -> None:
         kinematics(design, theta)
     a, b = (kinematics(c.design, theta) for c in design.cams())
     assert np.all(np.isfinite(a.pressure_angle_rad)) and np.all(np.isfinite(b.radius_mm))
+
+
+def test_analyze_checks_every_cam() -> None:
+    """Issue 9 item 3: a conjugate design whose cam B cannot work fails analyze, naming B."""
+    import tomllib
+
+    from camtol.analysis import analyze
+    from camtol.config import design_from_mapping, example_text
+    from camtol.exceptions import GeometryError
+
+    data = tomllib.loads(example_text("cw11-conjugate"))
+    data["follower"]["arm_b_mm"] = 150.0  # cam B would reach the pivot
+    with pytest.raises(GeometryError, match=r"^cam B: "):
+        analyze(design_from_mapping(data), step_deg=1.0)
+    ok = analyze(load_example("cw11-conjugate"), step_deg=1.0)
+    assert ok.cam_kinematics("B").radius_mm.max() < 120.0

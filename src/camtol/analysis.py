@@ -19,6 +19,7 @@ from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.engine import evaluate_engine
 from camtol.errors import ErrorAnalysis, errors_from_sensitivities
+from camtol.exceptions import GeometryError
 from camtol.extremes import Extreme, find_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
@@ -404,8 +405,11 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     """
     check_step(step_deg, name="step_deg")
     # The numbers are those of the design's first cam (cam A of a conjugate pair, whose
-    # further cams are in other_cams); the Analysis keeps the design itself.
-    cam = design.cams()[0].design
+    # further cams are in other_cams); the Analysis keeps the design itself. Every cam is
+    # checked (issue 9 item 3): a further cam that cannot work fails the analysis too.
+    cams = design.cams()
+    cam = cams[0].design
+    others = tuple((c.label, _checked(c.label, c.design, step_deg)) for c in cams[1:])
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     # One evaluation of the engine on the grid; it checks the geometry first, so an
     # invalid design fails before anything else.
@@ -451,11 +455,17 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         travel,
         accuracy,
         _notes(design, kin),
-        tuple(
-            (c.label, kinematics(c.design, theta, left_limit=left, check=False))
-            for c in design.cams()[1:]
-        ),
+        others,
     )
+
+
+def _checked(label: str, design: CamDesign, step_deg: float) -> Kinematics:
+    """Kinematics of one further cam on the analysis grid, checked, the cam named."""
+    theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
+    try:
+        return kinematics(design, theta, left_limit=left, check=True)
+    except GeometryError as exc:  # same class (UndercutError stays one), cam named
+        raise type(exc)(f"cam {label}: {exc}") from None
 
 
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and

@@ -378,6 +378,11 @@ def _register_subcommands() -> None:
         "derive",
         "V, A and J of a measured or tabulated lift, with a stated smoothing (THEORY §6.1).",
     )
+    LAZY_COMMANDS["records"] = (
+        "camtol.cli_records",
+        "records",
+        "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
+    )
     LAZY_COMMANDS["inspect"] = (
         "camtol.cli_inspect",
         "inspect",

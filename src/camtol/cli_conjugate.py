@@ -25,6 +25,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_records import check_store_options, store_fixture_records, store_options
 from camtol.cli_inspection_options import decision_option
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -96,6 +97,12 @@ __all__ = ["conjugate"]
 )
 @click.option("--cmm-b", metavar="SCAN.csv", help="CMM scan of cam B (with --cmm-a).")
 @click.option(
+    "--cmm-plot",
+    metavar="FILE.png",
+    help="With --cmm-a/--cmm-b: write Δf predicted from the CMM profiles against the record"
+    " and their differences (PNG/SVG/PDF).",
+)
+@click.option(
     "--cmm-stylus-radius-mm",
     "cmm_stylus_mm",
     type=float,
@@ -111,6 +118,7 @@ __all__ = ["conjugate"]
     help="Registration of the CMM scans (as `camtol inspect --datum`).",
 )
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
+@store_options
 def conjugate(
     design: str | None,
     example: str | None,
@@ -126,9 +134,11 @@ def conjugate(
     plot: str | None,
     cmm_a: str | None,
     cmm_b: str | None,
+    cmm_plot: str | None,
     cmm_stylus_mm: float,
     cmm_datum: str,
     quiet: bool,
+    **store_opts: str | None,
 ) -> None:
     """Conjugate-cam fixture: Δf parts, inverse analysis Δr_A,est / Δr_B,est, acceptance.
 
@@ -147,6 +157,9 @@ def conjugate(
     revolutions) are reported as upper and lower worst-case estimates. A revolution far
     longer or shorter than the median (a missed or spurious index mark) is an error, or
     with --drop-bad-revolutions excluded and reported.
+
+    With --store DB each inspected cam (A and B) is recorded in an inspection store with
+    the traceability options (see `camtol records`).
     """
 
     def body() -> int:
@@ -163,11 +176,15 @@ def conjugate(
         check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        check_output_path(cmm_plot, "--cmm-plot", [".png", ".svg", ".pdf"])
+        if cmm_plot and cmm_a is None:
+            fail("--cmm-plot needs the CMM scans: give --cmm-a and --cmm-b")
         from camtol.inspection.error_functions import ErrorFunction, parse_error_function
         from camtol.inspection.fixture import inspect_conjugate
         from camtol.mechanisms.conjugate import ConjugatePair
         from camtol.report import conjugate as rep
 
+        store = check_store_options(store_opts)
         d = load_input(design, example)
         if not isinstance(d.mechanism, ConjugatePair):
             fail(
@@ -238,6 +255,9 @@ def conjugate(
         res = dataclasses.replace(
             res, verdicts=decide(res, rule, None if estimates is None else estimates.u_f_um)
         )
+        stored = []
+        if store is not None:
+            stored = store_fixture_records(store, store_opts, d, design, example, res, spec)
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
@@ -254,6 +274,14 @@ def conjugate(
             )
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
+        if cmm_plot and comparison is not None:
+            from camtol.report.files import atomic_output
+            from camtol.report.inspection_plots import cmm_fixture_figure
+
+            with atomic_output(cmm_plot) as tmp:
+                cmm_fixture_figure(comparison).savefig(
+                    tmp, format=Path(cmm_plot).suffix.lstrip(".").lower()
+                )
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
@@ -269,6 +297,8 @@ def conjugate(
 
                 for line in cmm_comparison_lines(comparison.summary()):
                     click.echo(line)
+        if stored and not quiet:
+            click.echo(f"recorded cams A, B as ids {stored[0]}, {stored[1]}", err=as_json)
         return EXIT_FAIL if res.passed is False else EXIT_OK
 
     raise _Exit(run_guarded(body))

@@ -31,7 +31,50 @@ if TYPE_CHECKING:
     from camtol.inspection.cmm_fixture import CmmFixtureComparison
     from camtol.inspection.registration import Datum
 
-__all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
+__all__ = ["inspect", "parse_columns", "parse_datum", "parse_motion_spec", "parse_numbers"]
+
+
+def parse_motion_spec(output: str, spec_um: float | None, spec_deg: float | None) -> float | None:
+    """Return the motion spec from ``--spec-um``/``--spec-deg`` in the unit of S, or fail.
+
+    The flags are those of ``camtol montecarlo``: a spec on max |ΔS| of a lift [µm] or of
+    a swing [deg].
+
+    Parameters
+    ----------
+    output : str
+        The follower's output, ``"translating"`` or ``"oscillating"``.
+    spec_um : float or None
+        ``--spec-um``. [µm]
+    spec_deg : float or None
+        ``--spec-deg``. [deg]
+
+    Returns
+    -------
+    float or None
+        The spec in mm (translating) or rad (oscillating); None when neither was given.
+    """
+    if spec_um is not None and spec_deg is not None:
+        fail("give --spec-um or --spec-deg, not both")
+    if spec_um is not None:
+        if output == "oscillating":
+            fail(
+                f"--spec-um={spec_um:g} is not allowed: the output of this cam is an angle;"
+                " use --spec-deg"
+            )
+        if not (math.isfinite(spec_um) and spec_um > 0):
+            fail(f"--spec-um={spec_um!r} is not allowed; give a number of µm > 0")
+        return spec_um * 1e-3
+    if spec_deg is not None:
+        if output != "oscillating":
+            fail(
+                f"--spec-deg={spec_deg:g} is not allowed: the output of this cam is a lift;"
+                " use --spec-um"
+            )
+        if not (math.isfinite(spec_deg) and spec_deg > 0):
+            fail(f"--spec-deg={spec_deg!r} is not allowed; give a number of degrees > 0")
+        return math.radians(spec_deg)
+    return None
 
 
 def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float, ...]:
@@ -208,6 +251,16 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     show_default=True,
     help="Cam-angle step of the follower error [deg].",
 )
+@click.option(
+    "--spec-um",
+    type=float,
+    help="Motion spec: largest allowed max |ΔS| measured of a lift [µm]; the cam fails above it.",
+)
+@click.option(
+    "--spec-deg",
+    type=float,
+    help="Motion spec: largest allowed max |ΔS| measured of a swing [deg].",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
     "--curves",
@@ -237,6 +290,8 @@ def inspect(
     tolerance_on: str | None,
     harmonics: int,
     step_deg: float,
+    spec_um: float | None,
+    spec_deg: float | None,
     as_json: bool,
     curves: str | None,
     motion: str | None,
@@ -250,7 +305,8 @@ def inspect(
     uncertainties), computes the normal deviation Δn of every point to the exact analytic
     profile, the radial deviation Δr, the form and minimum zone, the verdict against the
     profile tolerance with the failing angles, and the follower's motion error on the
-    measured cam (exact, and linear from Δn). Exit status 1 when the cam fails.
+    measured cam (exact, and linear from Δn), judged against the motion spec
+    (--spec-um/--spec-deg) when given. Exit status 1 when the cam fails either.
     """
 
     def body() -> int:
@@ -272,6 +328,7 @@ def inspect(
 
         d = load_input(design, example)
         prof = cam_profile(d, cam)  # type: ignore[arg-type]
+        spec = parse_motion_spec(prof.mechanism.output, spec_um, spec_deg)
         scan = read_scan(
             points_path,
             cam=cam,  # type: ignore[arg-type]
@@ -290,14 +347,17 @@ def inspect(
         )
         func = None
         try:
-            func = functional_deviation(prof, insp, step_deg=step_deg, harmonics=harmonics)
+            func = functional_deviation(
+                prof, insp, step_deg=step_deg, harmonics=harmonics, spec=spec
+            )
         except GeometryError as exc:
             import warnings
 
             warnings.warn(f"follower error not computed: {exc}", stacklevel=1)
         data = rep.inspection_json(insp, func, design=d.name, stylus_radius_mm=stylus_mm)
-        if motion and func is None:
-            fail("--motion: the follower error could not be computed (see the warning)")
+        for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
+            if wanted is not None and func is None:
+                fail(f"{opt}: the follower error could not be computed (see the warning)")
         fig = None
         if plot or report_path:
             from camtol.report.inspection_plots import inspection_figure
@@ -326,7 +386,7 @@ def inspect(
         elif not quiet:
             for line in rep.inspection_text(data):
                 click.echo(line)
-        return EXIT_OK if insp.passed else EXIT_FAIL
+        return EXIT_OK if data["verdict"] == "pass" else EXIT_FAIL
 
     raise _Exit(run_guarded(body))
 

@@ -14,6 +14,7 @@ __all__ = [
     "GeometryError",
     "InputFileError",
     "PressureAngleWarning",
+    "RecordError",
     "ToleranceGradeError",
     "UndercutError",
 ]
@@ -53,3 +54,7 @@ class UndercutError(GeometryError):
 
 class PressureAngleWarning(UserWarning):
     """The pressure angle exceeds the design's limit but the cam still works."""
+
+
+class RecordError(CamtolError, ValueError):
+    """An inspection record or the store holding it is invalid, unreachable or too new."""

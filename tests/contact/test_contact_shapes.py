@@ -108,6 +108,45 @@ def test_fourier_error_derivatives() -> None:
     assert err.scaled(0.5)(t).v == pytest.approx(0.5 * j.v)
 
 
+def _fourier_one_harmonic_at_a_time(err: FourierError, t: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The former per-harmonic loop of FourierError.__call__, the reference."""
+    v, d1, d2 = np.full_like(t, err.mean_mm), np.zeros_like(t), np.zeros_like(t)
+    for k, a in enumerate(err.cos_mm, start=1):
+        v, d1, d2 = (
+            v + a * np.cos(k * t),
+            d1 - a * k * np.sin(k * t),
+            d2 - a * k * k * np.cos(k * t),
+        )
+    for k, b in enumerate(err.sin_mm, start=1):
+        v, d1, d2 = (
+            v + b * np.sin(k * t),
+            d1 + b * k * np.cos(k * t),
+            d2 - b * k * k * np.sin(k * t),
+        )
+    return v, d1, d2
+
+
+@pytest.mark.parametrize("harmonics", [0, 1, 7, 100, 700])
+@pytest.mark.parametrize("shape", [(3600,), (7, 13), ()])  # 3,600: several chunks
+def test_vectorised_fourier_error_equals_the_loop(harmonics: int, shape: tuple[int, ...]) -> None:
+    # One matrix product over the harmonics (chunked over angles) gives the values of the
+    # per-harmonic loop: the same terms summed in another order, so equal to rounding
+    # (1e-13 of the largest value; K·eps·max|a|k² for Δ'' at K = 700 is about 1e-13).
+    rng = np.random.default_rng(harmonics)
+    coef = rng.normal(size=(2, harmonics)) * 1e-3
+    coef[0, ::3] = 0.0  # zero harmonics are skipped
+    err = FourierError(0.02, tuple(coef[0]), tuple(coef[1][: max(0, harmonics - 2)]))
+    t = rng.uniform(-7.0, 14.0, size=shape)
+    got = err(t)
+    for new, ref in zip(
+        (got.v, got.d1, got.d2), _fourier_one_harmonic_at_a_time(err, t), strict=True
+    ):
+        assert np.shape(new) == np.shape(ref)
+        np.testing.assert_allclose(
+            new, ref, rtol=0, atol=1e-13 * max(1.0, float(np.max(np.abs(ref))))
+        )
+
+
 def test_tabulated_error_interpolates_and_validates() -> None:
     t = np.linspace(0, 2 * math.pi, 360, endpoint=False)
     tab = TabulatedError(t, 0.01 * np.sin(t))

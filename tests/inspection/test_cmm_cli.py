@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -295,8 +296,11 @@ def test_item5_fixture_estimates_agree_with_cmm_on_simulated_parts(capsys, tmp_p
         "--cmm-datum",
         "centre:0,0,0",
         "--json",
+        "--cmm-plot",
+        str(tmp_path / "cmm.png"),
     )
     assert code in (0, 1), err
+    assert (tmp_path / "cmm.png").stat().st_size > 10_000
     s = json.loads(out)["cmm_comparison"]
     assert s["rms_dr_A_cmm_um"] == pytest.approx(120.0, rel=0.01)
     assert s["rms_dr_B_cmm_um"] == pytest.approx(90.0, rel=0.01)
@@ -350,3 +354,92 @@ def test_cmm_options_bad_input(capsys, scan_b: Path, tmp_path: Path) -> None:  #
         str(scan_b.with_name("b.truth.json")),
     )
     assert code == 2 and "conjugate" in err and not out.exists()
+
+
+def test_motion_spec_pass_and_fail(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    base = ["inspect", "-e", "cw11-experiment", "--points", str(scan_b), "--cam", "B"]
+    base += ["--stylus-radius-mm", "1", "--json"]
+    code, out, err = _run(capsys, *base)
+    assert code == 0, err
+    m = json.loads(out)["motion"]
+    assert m["spec"] is None and m["verdict"] is None
+    worst = m["max_abs_dS_measured"]  # deg: cw11 has an oscillating follower
+    code, out, err = _run(capsys, *base, "--spec-deg", f"{1.01 * worst!r}")
+    data = json.loads(out)
+    assert code == 0, err
+    assert data["motion"]["verdict"] == "pass" and data["verdict"] == "pass"
+    assert data["motion"]["spec"] == pytest.approx(1.01 * worst, rel=1e-12)
+    motion = tmp_path / "m.csv"
+    code, out, err = _run(capsys, *base, "--spec-deg", f"{0.99 * worst!r}", "--motion", str(motion))
+    data = json.loads(out)
+    assert code == 1  # the profile passes, the follower error fails its spec
+    assert data["profile_verdict"] == "pass" and data["motion"]["verdict"] == "fail"
+    assert data["verdict"] == "fail" and motion.exists()
+    code, out, _ = _run(capsys, *base[:-1], "--spec-deg", f"{0.99 * worst!r}")
+    assert code == 1 and "FAIL against the motion spec" in out
+    assert "verdict: FAIL (profile and follower error)" in out
+
+
+@pytest.mark.parametrize(
+    ("flags", "needle"),
+    [
+        (["--spec-um", "5"], "--spec-um=5 is not allowed: the output of this cam is an angle"),
+        (["--spec-deg", "0"], "--spec-deg=0.0 is not allowed; give a number of degrees > 0"),
+        (["--spec-deg", "nan"], "--spec-deg=nan is not allowed"),
+        (["--spec-deg", "1", "--spec-um", "1"], "give --spec-um or --spec-deg, not both"),
+    ],
+)
+def test_motion_spec_bad_input(
+    capsys, scan_b: Path, tmp_path: Path, flags: list[str], needle: str
+) -> None:  # type: ignore[no-untyped-def]
+    curves = tmp_path / "c.csv"
+    code, out, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan_b),
+        "--cam",
+        "B",
+        "--curves",
+        str(curves),
+        *flags,
+    )
+    assert code == 2 and needle in err and len(err.strip().splitlines()) == 1
+    assert not curves.exists() and out == ""
+
+
+def test_cmm_fixture_figure_shows_the_table4_differences() -> None:
+    # The figure of conjugate --cmm-plot: Δf_mea, the twin and Δf_est, and below their
+    # differences from Δf_mea with the rms of [CW11] Table 4 in the legend.
+    from camtol.inspection import CmmFixtureComparison
+    from camtol.report.inspection_plots import cmm_fixture_figure
+
+    t = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    mea = 20.0 * np.sin(t)
+    comp = CmmFixtureComparison(
+        theta_rad=t,
+        dr_a_cmm_um=np.zeros_like(t),
+        dr_b_cmm_um=np.zeros_like(t),
+        df_mea_um=mea,
+        df_twin_um=mea + 3.0,  # rms difference 3
+        df_est_um=mea + 4.0 * np.sqrt(2.0) * np.cos(t),  # rms difference 4
+        dr_a_est_um=None,
+        dr_b_est_um=None,
+    )
+    top, bottom = cmm_fixture_figure(comp).axes
+    assert len(top.lines) == 3
+    labels = [t.get_text() for t in bottom.get_legend().get_texts()]
+    assert labels == ["twin − Δf_mea (rms 3 µm)", "Δf_est − Δf_mea (rms 4 µm)"]
+    comp = dataclasses.replace(comp, df_mea_um=None)
+    top, bottom = cmm_fixture_figure(comp).axes
+    assert len(top.lines) == 2
+    # Δf_est − twin = 4√2 cos θ − 3: rms √(16 + 9) = 5
+    assert [t.get_text() for t in bottom.get_legend().get_texts()] == ["Δf_est − twin (rms 5 µm)"]
+
+
+def test_cmm_plot_needs_the_scans(capsys, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "c.png"
+    code, _, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--cmm-plot", str(out))
+    assert code == 2 and "--cmm-plot needs the CMM scans" in err and not out.exists()

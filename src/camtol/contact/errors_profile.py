@@ -23,6 +23,9 @@ from camtol.jet import FloatArray, Jet
 
 __all__ = ["CallableError", "FourierError", "ProfileError", "TabulatedError"]
 
+#: Angles × harmonics per chunk of :meth:`FourierError.__call__` (one table: 0.5 MB).
+_TRIG_CHUNK = 1 << 16
+
 
 class ProfileError(Protocol):
     """A profile error Δ(θ) with its θ-derivatives. [mm]"""
@@ -59,21 +62,30 @@ class FourierError:
     sin_mm: Sequence[float] = ()
 
     def __call__(self, theta_rad: FloatArray) -> Jet:
-        """Δ and its derivatives. [mm, mm/rad, mm/rad²]"""
+        """Δ and its derivatives. [mm, mm/rad, mm/rad²]
+
+        Matrix products over the harmonics with non-zero coefficients,
+        cos(kθ) · W_c + sin(kθ) · W_s with W_c, W_s the (K, 3) weights of Δ, Δ', Δ'', in
+        chunks of angles so that the trigonometric tables stay in cache (0.5 MB each).
+        """
         t = np.asarray(theta_rad, dtype=float)
-        v = np.full_like(t, float(self.mean_mm))
-        d1 = np.zeros_like(t)
-        d2 = np.zeros_like(t)
-        for k, a in enumerate(self.cos_mm, start=1):
-            c, s = np.cos(k * t), np.sin(k * t)
-            v += a * c
-            d1 -= a * k * s
-            d2 -= a * k * k * c
-        for k, b in enumerate(self.sin_mm, start=1):
-            c, s = np.cos(k * t), np.sin(k * t)
-            v += b * s
-            d1 += b * k * c
-            d2 -= b * k * k * s
+        a = np.asarray(self.cos_mm, dtype=float)
+        b = np.asarray(self.sin_mm, dtype=float)
+        m = max(a.size, b.size)
+        a, b = np.pad(a, (0, m - a.size)), np.pad(b, (0, m - b.size))
+        live = np.flatnonzero((a != 0.0) | (b != 0.0))
+        out = np.zeros((3, t.size))  # rows Δ, Δ', Δ'' (contiguous)
+        out[0] = float(self.mean_mm)
+        if live.size:
+            k, a, b = (live + 1).astype(float), a[live], b[live]
+            w_cos = np.stack([a, k * b, -k * k * a], axis=1)  # columns: Δ, Δ', Δ''
+            w_sin = np.stack([b, -k * a, -k * k * b], axis=1)
+            flat = t.ravel()
+            step = max(1, _TRIG_CHUNK // k.size)
+            for i in range(0, flat.size, step):
+                arg = np.multiply.outer(flat[i : i + step], k)
+                out[:, i : i + step] += (np.cos(arg) @ w_cos + np.sin(arg) @ w_sin).T
+        v, d1, d2 = (row.reshape(t.shape) for row in out)
         return Jet(v, d1, d2)
 
     def scaled(self, factor: float) -> FourierError:

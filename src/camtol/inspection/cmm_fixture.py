@@ -35,13 +35,13 @@ from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixtur
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
-from camtol.inspection import (
-    ErrorFunction,
+from camtol.inspection.conjugate import (
     FixtureErrors,
     conjugate_factors,
     conjugate_variation,
     inverse_estimate,
 )
+from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
 __all__ = ["CmmFixtureComparison", "compare_cmm_fixture", "rms"]

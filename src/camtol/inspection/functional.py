@@ -89,17 +89,60 @@ def fourier_fit(t_rad: ArrayLike, values_mm: ArrayLike, harmonics: int) -> Fouri
             np.concatenate([vs, vs, vs]),
         )
         t = grid
-    k = np.arange(1, harmonics + 1)
-    arg = t[:, None] * k[None, :]
-    a = np.concatenate([np.ones((t.size, 1)), np.cos(arg), np.sin(arg)], axis=1)
-    # Normal equations (well conditioned for points spread round the revolution: AᵀA is
-    # nearly N/2 times the identity), far cheaper than an SVD of A.
-    coef = np.linalg.solve(a.T @ a, a.T @ v)
+    coef = np.linalg.solve(*_normal_equations(t, v, harmonics))
     return FourierError(
         float(coef[0]),
         tuple(coef[1 : harmonics + 1].tolist()),
         tuple(coef[harmonics + 1 :].tolist()),
     )
+
+
+def _normal_equations(
+    t: FloatArray, v: FloatArray, harmonics: int
+) -> tuple[FloatArray, FloatArray]:
+    """Return the normal equations AᵀA c = Aᵀv of the Fourier least squares, in O(N·K).
+
+    A has the columns 1, cos kt, sin kt (k = 1..K). Its Gram matrix is made of the
+    trigonometric moments C_m + i S_m = Σ exp(i m t_n), m = 0..2K, by the product
+    formulas (cos jt cos kt = ½[cos (j−k)t + cos (j+k)t], etc.): the moments up to K are
+    column sums of the table exp(i k t), those from K+1 to 2K the products
+    exp(i K t) · exp(i j t) summed (one matrix-vector product), so that AᵀA costs O(N·K)
+    instead of the O(N·K²) of forming it from A. The system is well conditioned for
+    points spread round the revolution (AᵀA is nearly N/2 times the identity).
+
+    Parameters
+    ----------
+    t : ndarray
+        Profile parameters. [rad]
+    v : ndarray
+        Values. [mm]
+    harmonics : int
+        K.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        AᵀA, (2K+1, 2K+1), and Aᵀv, (2K+1,). [1, mm]
+    """
+    k = np.arange(1, harmonics + 1)
+    arg = np.multiply.outer(t, k)
+    c, s = np.cos(arg), np.sin(arg)
+    wr, wi = c[:, -1], s[:, -1]  # exp(iKt)
+    big_c = np.concatenate([[t.size], c.sum(axis=0), wr @ c - wi @ s])  # C_m, m = 0..2K
+    big_s = np.concatenate([[0.0], s.sum(axis=0), wr @ s + wi @ c])  # S_m
+    j = k[:, None]
+    diff, tot = np.abs(j - k), j + k
+    gram = np.empty((2 * harmonics + 1, 2 * harmonics + 1))
+    gram[0, 0] = t.size
+    gram[0, 1 : harmonics + 1] = gram[1 : harmonics + 1, 0] = big_c[k]
+    gram[0, harmonics + 1 :] = gram[harmonics + 1 :, 0] = big_s[k]
+    gram[1 : harmonics + 1, 1 : harmonics + 1] = 0.5 * (big_c[diff] + big_c[tot])
+    gram[harmonics + 1 :, harmonics + 1 :] = 0.5 * (big_c[diff] - big_c[tot])
+    cs = 0.5 * (big_s[tot] + np.sign(k - j) * big_s[diff])  # Σ cos jt sin kt
+    gram[1 : harmonics + 1, harmonics + 1 :] = cs
+    gram[harmonics + 1 :, 1 : harmonics + 1] = cs.T
+    rhs = np.concatenate([[v.sum()], v @ c, v @ s])
+    return gram, rhs
 
 
 class SampledFourier:
@@ -108,6 +151,10 @@ class SampledFourier:
     Exact values and derivatives on a fine grid (inverse FFT, at least 128 nodes per
     highest harmonic), quintic Hermite between nodes
     (errors O(h⁶) in Δ, O(h⁴) in Δ''; about 1e-13 mm and 1e-9 relative for 100 harmonics).
+    The contact engine evaluates the error several times per angle grid; the series
+    itself (:class:`~camtol.contact.FourierError`, one matrix product over the harmonics)
+    costs O(N·K) trigonometric evaluations per call, this O(N) after an O(M log M)
+    set-up: for 3,600 angles and 100 harmonics about 0.1 ms against 8 ms a call.
 
     Parameters
     ----------
@@ -164,6 +211,8 @@ class FunctionalDeviation:
         The smoothed Δn(t) the motion was computed from. [mm]
     harmonics : int
         Its Fourier cut-off.
+    spec : float or None
+        Motion spec: the largest allowed max |ΔS_measured| (None: not judged). [unit]
     """
 
     theta_rad: FloatArray
@@ -174,6 +223,7 @@ class FunctionalDeviation:
     ds_linear: FloatArray
     normal_error: FourierError
     harmonics: int
+    spec: float | None = None
 
     @property
     def max_abs_measured(self) -> float:
@@ -185,6 +235,11 @@ class FunctionalDeviation:
         """Max |ΔS_linear|. [unit]"""
         return float(np.max(np.abs(self.ds_linear)))
 
+    @property
+    def passed(self) -> bool | None:
+        """Whether max |ΔS_measured| ≤ :attr:`spec` (None when no spec was given)."""
+        return None if self.spec is None else self.max_abs_measured <= self.spec
+
 
 def functional_deviation(
     profile: CamProfile,
@@ -192,6 +247,7 @@ def functional_deviation(
     *,
     step_deg: float = 0.1,
     harmonics: int = DEFAULT_HARMONICS,
+    spec: float | None = None,
 ) -> FunctionalDeviation:
     """Exact follower-motion error of a measured cam and its linear prediction.
 
@@ -206,11 +262,24 @@ def functional_deviation(
         Cam-angle grid; 360 must be a multiple of it. [deg]
     harmonics : int
         Fourier cut-off of the smoothing.
+    spec : float, optional
+        Motion spec, the largest allowed max |ΔS_measured| in the unit of S (mm for a
+        translating follower, rad for an oscillating one); the result's
+        :attr:`~FunctionalDeviation.passed` judges against it. [mm or rad]
 
     Returns
     -------
     FunctionalDeviation
+
+    Raises
+    ------
+    DesignError
+        If ``spec`` is not a finite number > 0.
     """
+    if spec is not None and not (
+        isinstance(spec, (int, float)) and not isinstance(spec, bool) and 0 < spec < math.inf
+    ):
+        raise DesignError(f"spec={spec!r} is not allowed; give a finite number > 0 (mm or rad)")
     n = check_step(step_deg, name="step_deg", min_points=4)
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     if isinstance(source, CmmInspection):
@@ -219,11 +288,12 @@ def functional_deviation(
     else:
         err = source
     mech, program = profile.mechanism, profile.design.program
-    shape = AnalyticShape(mech, program, normal_error=SampledFourier(err))
+    sampled = SampledFourier(err)
+    shape = AnalyticShape(mech, program, normal_error=sampled)
     motion = follow(shape, mech, theta)
     nominal = program.evaluate(theta)
     sens = mech.error_sensitivities(theta, nominal.lift, nominal.velocity)["n"]
-    ds_lin = np.asarray(jet.value(sens), dtype=float) * err(theta).v
+    ds_lin = np.asarray(jet.value(sens), dtype=float) * sampled(theta).v
     return FunctionalDeviation(
         theta_rad=theta,
         unit="mm" if mech.output == "translating" else "rad",
@@ -233,4 +303,5 @@ def functional_deviation(
         ds_linear=np.broadcast_to(ds_lin, theta.shape).astype(float),
         normal_error=err,
         harmonics=harmonics if isinstance(source, CmmInspection) else len(err.cos_mm),
+        spec=None if spec is None else float(spec),
     )

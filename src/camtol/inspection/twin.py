@@ -28,9 +28,10 @@ import numpy as np
 from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixture
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
-from camtol.inspection import ErrorFunction, FixtureErrors
 from camtol.inspection.cmm import MIN_POINTS, CamLabel
+from camtol.inspection.conjugate import FixtureErrors
 from camtol.inspection.deviations import cam_profile
+from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
 __all__ = [

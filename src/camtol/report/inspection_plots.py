@@ -4,7 +4,9 @@ Drawn as inspectors expect them: the nominal profile with the measured deviation
 magnified along the normal and the tolerance zone around it; the normal deviation against
 the polar angle with the tolerance limits and the outliers marked; and the follower-motion
 error of the measured cam, exact and linear (:mod:`camtol.inspection.functional`).
-Matplotlib is imported only when a figure is drawn (no pyplot).
+For a conjugate pair, the fixture's Δf predicted from the two CMM profiles against the
+record ([CW11] Table 4, :mod:`camtol.inspection.cmm_fixture`). Matplotlib is imported
+only when a figure is drawn (no pyplot).
 """
 
 from __future__ import annotations
@@ -17,10 +19,11 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from camtol.inspection.cmm_fixture import CmmFixtureComparison
     from camtol.inspection.deviations import CamProfile, CmmInspection
     from camtol.inspection.functional import FunctionalDeviation
 
-__all__ = ["inspection_figure"]
+__all__ = ["cmm_fixture_figure", "inspection_figure"]
 
 
 def _magnification(insp: CmmInspection, r_max_mm: float) -> float:
@@ -122,11 +125,63 @@ def inspection_figure(
         scale, unit = (1e3, "µm") if functional.unit == "mm" else (3600 * 180 / math.pi, "arcsec")
         ax.plot(deg, functional.ds_measured * scale, "C0", lw=1.0, label="ΔS exact (contact)")
         ax.plot(deg, functional.ds_linear * scale, "C1--", lw=0.8, label="ΔS linear, (∂S/∂n)Δn")
+        title = f"Functional error (Fourier ≤ {functional.harmonics} harmonics)"
+        if functional.spec is not None:
+            ax.axhline(-functional.spec * scale, color="C2", ls="--", lw=0.8)
+            ax.axhline(functional.spec * scale, color="C2", ls="--", lw=0.8, label="motion spec")
+            title += ", " + ("pass" if functional.passed else "FAIL")
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 60))
         ax.set_xlabel("cam angle θ [deg]")
         ax.set_ylabel(f"follower error ΔS [{unit}]")
-        ax.set_title(f"Functional error (Fourier ≤ {functional.harmonics} harmonics)")
+        ax.set_title(title)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    return fig
+
+
+def cmm_fixture_figure(comparison: CmmFixtureComparison) -> Figure:
+    """Draw Δf predicted from the CMM profiles of both cams against the record ([CW11] Table 4).
+
+    Top: Δf of the exact fixture twin on the two CMM profiles, Δf_est of [CW11] eqs. 14-18
+    with the CMM errors, and the measured Δf_mea when there is one. Bottom: their
+    differences from Δf_mea (from the twin without a measurement), rms in the legend.
+
+    Parameters
+    ----------
+    comparison : CmmFixtureComparison
+        The fixture compared with the CMM (:func:`~camtol.inspection.compare_cmm_fixture`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    from camtol.inspection.cmm_fixture import rms
+
+    c = comparison
+    deg = np.degrees(c.theta_rad)
+    fig = Figure(figsize=(9.0, 6.4), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    if c.df_mea_um is not None:
+        top.plot(deg, c.df_mea_um, "k", lw=1.2, label="Δf_mea (record)")
+    top.plot(deg, c.df_twin_um, "C0", lw=0.9, label="Δf twin (exact, CMM profiles)")
+    top.plot(deg, c.df_est_um, "C1--", lw=0.9, label="Δf_est (eqs. 14-18, CMM errors)")
+    top.set_ylabel("centre-distance variation Δf [µm]")
+    top.set_title("Fixture predicted from the CMM profiles of both cams")
+    ref, name = (c.df_mea_um, "Δf_mea") if c.df_mea_um is not None else (c.df_twin_um, "twin")
+    if c.df_mea_um is not None:
+        d_twin = c.df_twin_um - ref
+        bottom.plot(deg, d_twin, "C0", lw=0.9, label=f"twin − {name} (rms {rms(d_twin):.3g} µm)")
+    d_est = c.df_est_um - ref
+    bottom.plot(deg, d_est, "C1--", lw=0.9, label=f"Δf_est − {name} (rms {rms(d_est):.3g} µm)")
+    bottom.axhline(0.0, color="0.5", lw=0.6)
+    bottom.set_ylabel(f"difference from {name} [µm]")
+    bottom.set_xlabel("cam angle θ [deg]")
+    for ax in (top, bottom):
+        ax.set_xlim(0, 360)
+        ax.set_xticks(range(0, 361, 60))
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     return fig

@@ -6,7 +6,8 @@ File columns and JSON keys are fixed (issue 12, docs/cmm-inspection.md):
   registration, in the cam frame; ``theta_deg`` the polar angle of the point);
 - motion CSV, one row per cam angle: ``theta_deg, dS_measured_<unit>, dS_linear_<unit>``
   with ``<unit>`` ``um`` (translating follower) or ``deg`` (oscillating);
-- JSON: ``verdict``, ``registration``, ``form_um``, ``max_dn_um``, ``min_dn_um``,
+- JSON: ``verdict`` (the profile and, with a motion spec, the follower error),
+  ``profile_verdict``, ``registration``, ``form_um``, ``max_dn_um``, ``min_dn_um``,
   ``outliers``, ``failing_intervals_deg``, ``motion`` and context keys.
 """
 
@@ -71,13 +72,15 @@ def inspection_json(
         Stylus radius used for compensation. [mm]
     """
     reg = insp.registration
+    functional_ok = functional is None or functional.passed is not False
     out: dict[str, Any] = {
         "design": design,
         "cam": insp.cam,
         "scan": insp.source,
         "points": int(insp.dn_um.size),
         "stylus_radius_mm": stylus_radius_mm,
-        "verdict": "pass" if insp.passed else "fail",
+        "verdict": "pass" if insp.passed and functional_ok else "fail",
+        "profile_verdict": "pass" if insp.passed else "fail",
         "tolerance_um": list(insp.tolerance_um),
         "tolerance_on": "dn_um" if insp.tolerance_kind == "normal" else "dr_um",
         "registration": {
@@ -114,6 +117,10 @@ def inspection_json(
             "max_abs_dA_measured": float(np.max(np.abs(functional.da_measured))) * k,
             "dV_unit": f"{unit}/rad",
             "dA_unit": f"{unit}/rad2",
+            "spec": None if functional.spec is None else functional.spec * k,
+            "verdict": None
+            if functional.passed is None
+            else ("pass" if functional.passed else "fail"),
         }
     return out
 
@@ -200,14 +207,23 @@ def inspection_text(data: dict[str, Any]) -> list[str]:
         lines.append(
             f"follower error ΔS: max |ΔS| {m['max_abs_dS_measured']:.4g} {m['unit']} exact,"
             f" {m['max_abs_dS_linear']:.4g} {m['unit']} linear (Fourier ≤ {m['harmonics']})"
+            + (
+                f"; {m['verdict'].upper()} against the motion spec {m['spec']:g} {m['unit']}"
+                if m.get("verdict") is not None
+                else ""
+            )
         )
     fails = data["failing_intervals_deg"]
     where = ", ".join(f"{a:.1f}-{b:.1f}°" for a, b in fails)
     lines.append(
-        f"verdict: {data['verdict'].upper()} against [{lo:g}, {hi:g}] µm on"
+        f"profile: {data['profile_verdict'].upper()} against [{lo:g}, {hi:g}] µm on"
         f" {'Δn' if data['tolerance_on'] == 'dn_um' else 'Δr'}"
         + (f"; outside at polar angles {where}" if fails else "")
     )
+    judged = "profile" + (
+        " and follower error" if data.get("motion", {}).get("verdict") is not None else ""
+    )
+    lines.append(f"verdict: {data['verdict'].upper()} ({judged})")
     return lines
 
 

@@ -1,0 +1,201 @@
+"""``camtol conjugate --store`` and ``camtol records list/show/stats`` (in-process)."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
+
+from camtol.cli import main
+from camtol.config import load_example
+from camtol.examples import example_text
+from camtol.inspection.lots import lot_statistics
+from camtol.inspection.store import design_identity, open_store
+
+EX = "cw11-conjugate"
+
+
+def _inspect(url: str, serial: str, df: str, lot: str = "L1", *extra: str) -> int:
+    return main(
+        [
+            "conjugate", "-e", EX, "--df-mea", df, "--step", "1", "-q", "--store", url,
+            "--serial", serial, "--lot", lot, "--part", "CAM-7", "--inspector", "ana",
+            "--instrument", "fixture-2", *extra,
+        ]
+    )  # fmt: skip
+
+
+def test_conjugate_store_records_both_cams(
+    store_url: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = _inspect(
+        store_url, "1", "20 + 3*sin(theta)", "L1", "--inspected-at", "2026-11-23T08:00:00Z"
+    )
+    assert code in (0, 1)
+    assert (
+        main(["conjugate", "-e", EX, "--df-mea", "20 + 3*sin(theta)", "--step", "1", "--json"])
+        == code
+    )
+    ref = json.loads(capsys.readouterr().out)
+    assert main(["records", "list", "--store", store_url, "--json"]) == 0
+    recs = json.loads(capsys.readouterr().out)["records"]
+    assert [r["cam"] for r in recs] == ["A", "B"]
+    a = recs[0]
+    assert a["design_name"] == EX
+    assert a["design_hash"] == design_identity(load_example(EX), example_text(EX))[1]
+    assert (a["part_number"], a["serial"], a["lot"], a["inspector"], a["instrument"]) == (
+        "CAM-7", "1", "L1", "ana", "fixture-2",
+    )  # fmt: skip
+    assert a["inspected_at"] == "2026-11-23T08:00:00+00:00"
+    assert a["method"] == "conjugate-fixture" and a["n_points"] == 360
+    assert a["tolerance_um"] == [-22.0, 22.0]
+    assert a["verdict"] == ("pass" if ref["verdicts"]["A"]["passed"] else "fail")
+
+
+def test_show_and_stats_against_the_library(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    url = str(tmp_path / "r.db")
+    for serial, df in [("1", "20"), ("2", "21 + 2*sin(theta)"), ("3", "23 + 2*cos(theta)")]:
+        assert _inspect(url, serial, df) in (0, 1)
+    assert _inspect(url, "9", "20", "L2") in (0, 1)
+    capsys.readouterr()
+
+    curve = tmp_path / "c.csv"
+    assert main(["records", "show", "3", "--store", url, "--json", "--curves", str(curve)]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    with open_store(url) as s:
+        rec = s.get(3)
+        lot = s.records(design=EX, lot="L1", cam="A", with_curves=True)
+    assert shown == rec.summary()
+    rows = list(csv.reader(curve.read_text().splitlines()))
+    assert rows[0] == ["theta_deg", "dr_um"]
+    np.testing.assert_allclose([float(r[1]) for r in rows[1:]], rec.dr_um, rtol=1e-9)
+    np.testing.assert_allclose([float(r[0]) for r in rows[1:]], np.arange(360.0))
+
+    stats_csv = tmp_path / "s.csv"
+    args = ["records", "stats", "--store", url, "--design", EX, "--lot", "L1", "--cam", "A"]
+    assert main([*args, "--json", "--curves", str(stats_csv)]) == 0
+    got = json.loads(capsys.readouterr().out)
+    ref = lot_statistics(
+        [r.dr_um for r in lot], (-22.0, 22.0), [r.verdict == "fail" for r in lot],
+        sequence=[1.0, 2.0, 3.0],
+    )  # fmt: skip
+    assert got["n_parts"] == 3 and got["record_ids"] == [r.id for r in lot]
+    assert got["trend_basis"] == "serial"
+    assert got["cpk"] == pytest.approx(ref.cpk)
+    assert got["trend_um_per_part"] == pytest.approx(ref.trend_um_per_part)
+    assert got["fraction_failing_ci"] == pytest.approx(list(ref.fraction_failing_ci))
+    rows = list(csv.reader(stats_csv.read_text().splitlines()))
+    assert rows[0] == ["theta_deg", "mean_um", "std_um", "max_um", "min_um"]
+    np.testing.assert_allclose([float(r[1]) for r in rows[1:]], ref.mean_um, rtol=1e-9)
+
+    assert main(["records", "list", "--store", url, "--lot", "L2"]) == 0
+    out = capsys.readouterr().out
+    assert "2 record(s)" in out and " 9 " in out
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["records", "show", "99"], "record id 99: no such record"),
+        (["records", "stats", "--design", EX], "records of cams A, B; give --cam"),
+        (["records", "stats", "--design", "nope"], "--design='nope': no records match"),
+        (
+            ["records", "stats", "--design", EX, "--cam", "A", "--confidence", "2"],
+            "--confidence=2.0",
+        ),
+        (["records", "show", "1", "--curves", "x.txt"], "--curves='x.txt'"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], message: str
+) -> None:
+    url = str(tmp_path / "r.db")
+    assert _inspect(url, "1", "20") in (0, 1)
+    capsys.readouterr()
+    assert main([*args, "--store", url]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "Traceback" not in err
+
+
+def test_store_errors_exit_2_before_any_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    missing = str(tmp_path / "none.db")
+    assert main(["records", "list", "--store", missing]) == 2
+    assert "no such file" in capsys.readouterr().err
+    assert not Path(missing).exists()
+    assert main(["records", "list", "--store", f"sqlite:///{missing}"]) == 2
+    assert "no such file" in capsys.readouterr().err
+    assert not Path(missing).exists()  # not created by a read
+    assert main(["records", "list", "--store", "postgresql+psycopg://u:pw@127.0.0.1:1/x"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cannot open the store" in err and "pw" not in err
+
+    assert main(["conjugate", "-e", EX, "--serial", "4"]) == 2
+    assert "--serial describes the part for the store" in capsys.readouterr().err
+    url = str(tmp_path / "r.db")
+    assert _inspect(url, "1", "20", "L1", "--inspected-at", "yesterday") == 2
+    assert "--inspected-at='yesterday'" in capsys.readouterr().err
+    # no measurement: nothing to record (cw11-experiment has no df_mea)
+    code = main(["conjugate", "-e", "cw11-experiment", "--store", url, "--step", "1", "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--store records an inspection" in err
+    with open_store(url) as s:
+        assert s.records() == []
+
+
+def test_newer_schema_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import sqlite3
+
+    url = str(tmp_path / "r.db")
+    assert _inspect(url, "1", "20") in (0, 1)
+    with sqlite3.connect(url) as conn:
+        conn.execute("UPDATE schema_version SET version = 99")
+    capsys.readouterr()
+    assert main(["records", "list", "--store", url]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "schema version 99, newer than" in err
+    assert _inspect(url, "2", "20") == 2  # an inspection refuses before analysing
+
+
+def test_every_key_column_and_flag_is_documented(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import click
+
+    from camtol.cli_conjugate import conjugate
+    from camtol.cli_records import records
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "records.md").read_text("utf-8")
+    url = str(tmp_path / "r.db")
+    assert _inspect(url, "1", "20") in (0, 1)
+    capsys.readouterr()
+    assert main(["records", "show", "1", "--store", url, "--json"]) == 0
+    keys = set(json.loads(capsys.readouterr().out))
+    assert main(["records", "stats", "--store", url, "--design", EX, "--cam", "B", "--json"]) == 0
+    keys |= set(json.loads(capsys.readouterr().out))
+    keys |= {"theta_deg", "dr_um", "mean_um", "std_um", "max_um", "min_um"}  # CSV columns
+    for name in ("schema_version", "designs", "inspections", "curves", "tolerance_lower_um"):
+        keys.add(name)
+    import re
+
+    spans = re.findall(r"`([^`\n]+)`", doc)  # code spans, one line each
+    words = set(re.findall(r"[\w-]+", " ".join(spans)))
+    missing = sorted(keys - words)
+    assert missing == [], f"not in docs/records.md: {missing}"
+    assert isinstance(records, click.Group)
+    flags = {
+        opt
+        for cmd in [*records.commands.values(), conjugate]
+        for p in cmd.params
+        for opt in p.opts
+        if opt.startswith("--") and (cmd is not conjugate or p.name.startswith("store_"))
+    }
+    assert sorted(f for f in flags if f"`{f}" not in doc and f"{f} " not in doc) == []
