@@ -25,8 +25,8 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
-from camtol.cli_records import check_store_options, store_fixture_records, store_options
 from camtol.cli_inspection_options import decision_option
+from camtol.cli_records import check_store_options, store_fixture_records, store_options
 
 if TYPE_CHECKING:  # pragma: no cover
     from camtol.inspection.decision import DecisionRule
