@@ -67,6 +67,7 @@ CORE = [
     "profile.py",
     "conjugate.py",
     "drawing.py",
+    "radius_table.py",
     "study.py",
     "verify.py",
     "inspection",

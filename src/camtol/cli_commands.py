@@ -22,7 +22,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "report": (
         "camtol.cli_report",
         "report",
-        "Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.",
+        "Write a self-contained HTML report: verdict, inputs, conventions, extremes, figures.",
     ),
     "verify": (
         "camtol.cli_verify",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -24,7 +25,11 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_inspection_options import decision_option
 from camtol.cli_records import check_store_options, store_fixture_records, store_options
+
+if TYPE_CHECKING:  # pragma: no cover
+    from camtol.inspection.decision import DecisionRule
 
 __all__ = ["conjugate"]
 
@@ -79,6 +84,7 @@ def _file_arg(value: str | None) -> str | None:
     metavar="DEG",
     help="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
 )
+@decision_option
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
     "--curves",
@@ -129,6 +135,7 @@ def conjugate(
     master_a: str | None,
     master_b: str | None,
     step_deg: float,
+    decision: str,
     as_json: bool,
     curves: str | None,
     plot: str | None,
@@ -146,6 +153,10 @@ def conjugate(
     the master cams' errors and the measured Δf (THEORY §4, §8.3); the options override
     them. Prints the extremes and a verdict per inspected cam with the cam-angle intervals
     where it fails. Exit status 1 when a cam fails.
+
+    --decision chooses the conformance rule (ISO 14253-1): 'simple' accepts a cam whose
+    Δf_mea is in its band; 'guard-band' (with --record) only when Δf_mea ± u_f is, i.e.
+    the acceptance zone shrunk by the uncertainty. The rule is stated in the output.
 
     With --record the indicator record is processed (THEORY §4.4): its mean over complete
     revolutions is Δf_mea and the verdicts are taken on it; the inverse estimates at the
@@ -250,6 +261,17 @@ def conjugate(
             from camtol.inspection.record import record_estimates
 
             estimates = record_estimates(d, spec, processed, res.theta_rad)
+        if decision == "guard-band" and estimates is None:
+            fail(
+                "--decision=guard-band needs the measurement uncertainty u_f of an indicator"
+                " record; give --record FILE.csv, or use --decision simple"
+            )
+        from camtol.inspection.decision import decide, decision_rule_text
+
+        rule: DecisionRule = "guard-band" if decision == "guard-band" else "simple"
+        res = dataclasses.replace(
+            res, verdicts=decide(res, rule, None if estimates is None else estimates.u_f_um)
+        )
         stored = []
         if store is not None:
             stored = store_fixture_records(store, store_opts, d, design, example, res, spec)
@@ -266,7 +288,12 @@ def conjugate(
                 where=plot,
             )
             fig = fixture_figure(
-                res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+                res,
+                tolerance_a_um=spec.tolerance_a_um,
+                tolerance_b_um=spec.tolerance_b_um,
+                design_name=d.name,
+                record=estimates,
+                decision_rule=rule,
             )
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
@@ -280,11 +307,16 @@ def conjugate(
                 )
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
+            data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
             if comparison is not None:
                 data["cmm_comparison"] = comparison.summary()
             echo_json(data, command="conjugate")
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)
+            if res.verdicts:
+                import textwrap
+
+                click.echo(textwrap.fill(f"Decision rule: {decision_rule_text(rule)}.", 80))
             if comparison is not None:
                 from camtol.cli_inspect import cmm_comparison_lines
 

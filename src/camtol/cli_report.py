@@ -12,6 +12,7 @@ from typing import Any
 import click
 
 from camtol.cli import (
+    EXIT_FAIL,
     EXIT_OK,
     _Exit,
     check_output_path,
@@ -22,6 +23,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_inspection_options import has_inspection_input, inspection_options, run_fixture
 
 __all__ = ["profile", "report"]
 
@@ -209,6 +211,19 @@ def _write_gcode(
     return EXIT_OK
 
 
+def _traceability_options(f: Any) -> Any:
+    from camtol.report.qa import TRACEABILITY_FIELDS
+
+    for key, label in reversed(TRACEABILITY_FIELDS):
+        f = click.option(
+            f"--{key.replace('_', '-')}",
+            key,
+            metavar="TEXT",
+            help=f"Traceability: {label} (overrides the design's [traceability] table).",
+        )(f)
+    return f
+
+
 @click.command()
 @design_options
 @click.option(
@@ -222,6 +237,18 @@ def _write_gcode(
     show_default=True,
     metavar="DEG",
     help="Grid step [deg].",
+)
+@inspection_options
+@click.option(
+    "--no-fail",
+    is_flag=True,
+    help="Exit 0 once the report is written, even when the inspected part fails.",
+)
+@_traceability_options
+@click.option(
+    "--radius-table",
+    is_flag=True,
+    help="Append the cam drawing's radius table (profile radius every 1° of polar angle).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
@@ -237,48 +264,139 @@ def report(
     example: str | None,
     output: str,
     step_deg: float,
+    df_mea: str | None,
+    record_path: str | None,
+    drop_bad_revolutions: bool,
+    master_a: str | None,
+    master_b: str | None,
+    cmm_a: str | None,
+    cmm_b: str | None,
+    cmm_stylus_mm: float,
+    cmm_datum: str,
+    decision: str,
+    no_fail: bool,
+    radius_table: bool,
     as_json: bool,
     quiet: bool,
     mc_samples: int | None,
+    **traceability: str | None,
 ) -> None:
-    """Write a self-contained HTML report: inputs, conventions, verdicts, extremes, figures.
+    """Write a self-contained HTML report: verdict, inputs, conventions, extremes, figures.
 
-    One file with inline SVG figures and no scripts: it opens offline. For a conjugate
-    design with an [inspection] table it also shows the fixture analysis (THEORY §4).
-    The exit status is 0 once the report is written, whatever its verdicts (use
-    `camtol analyze` or `camtol conjugate` as a gate).
+    One file with inline SVG figures and no scripts: it opens offline and prints to a clean
+    PDF (A4; tables and figures are not split). The verdict comes first, in the terminal
+    line and as a PASS/FAIL banner at the top of the report.
+
+    A measured conjugate pair gets an inspection report: the design's [inspection] table,
+    with the same inputs as `camtol conjugate` (--df-mea, --record, --master-a/-b,
+    --cmm-a/-b, --decision). Exit status 1 when the inspected part fails (after the report is
+    written), 0 when it passes or when there is no measurement (a design-only report shows
+    the design checks but never fails the command); --no-fail always exits 0 once the
+    file is written. Traceability fields come from the design's [traceability] table or
+    the options.
     """
 
     def body() -> int:
         from camtol.analysis import analyse
         from camtol.report.html import write_report
+        from camtol.report.qa import InspectionReport, overall_verdict
 
-        guard_paths({"DESIGN": design}, {"--output": output})
+        csv_inputs = {
+            flag: value
+            for flag, value in (
+                ("--df-mea", df_mea),
+                ("--master-a", master_a),
+                ("--master-b", master_b),
+                ("--record", record_path),
+                ("--cmm-a", cmm_a),
+                ("--cmm-b", cmm_b),
+            )
+            if value is not None and Path(value).exists()
+        }
+        guard_paths({"DESIGN": design, **csv_inputs}, {"--output": output})
         check_output_path(output, "--output", [".html", ".htm"])
         if mc_samples is not None and mc_samples <= 0:
             fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")
-        a = analyse(load_input(design, example), step_deg=step_deg)
-        from camtol.study import study
-
+        d = load_input(design, example)
+        a = analyse(d, step_deg=step_deg)
         sections: list[str] = []
         if mc_samples is not None:
             from camtol.report.tolerancing import montecarlo_section
             from camtol.tolerancing import monte_carlo
 
-            mc = monte_carlo(a.design, mc_samples, step_deg=step_deg)
-            sections.append(montecarlo_section(mc))
-        write_report(study(a), output, sections=sections)
+            sections.append(montecarlo_section(monte_carlo(d, mc_samples, step_deg=step_deg)))
+        fixture = None
+        if d.mechanism.kind == "conjugate" and (
+            d.inspection is not None
+            or has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b)
+        ):
+            from camtol.grid import check_step
+            from camtol.inspection.fixture import MAX_FIXTURE_POINTS
+
+            check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
+            run = run_fixture(
+                d,
+                df_mea=df_mea,
+                record_path=record_path,
+                drop_bad_revolutions=drop_bad_revolutions,
+                master_a=master_a,
+                master_b=master_b,
+                decision=decision,
+                step_deg=step_deg,
+                command="report",
+                cmm_a=cmm_a,
+                cmm_b=cmm_b,
+                cmm_stylus_mm=cmm_stylus_mm,
+                cmm_datum=cmm_datum,
+            )
+            fixture = InspectionReport(run.inspection, run.spec, run.record, run.decision)
+        elif has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b) or (
+            decision != "simple"
+        ):
+            fail(
+                f"follower.type={d.mechanism.kind!r}: --df-mea, --record, --master-a/-b,"
+                " --cmm-a/-b, --decision need a conjugate design (follower.type = 'conjugate')"
+            )
+        from camtol.drawing import analysis_drawing
+        from camtol.radius_table import radius_table as make_radius_table
+        from camtol.study import Study
+
+        given = {k: v for k, v in traceability.items() if v is not None}
+        write_report(
+            Study(a, analysis_drawing(a)),  # the fixture results are passed in below
+            output,
+            fixture=fixture,
+            traceability=given,
+            radius_table=make_radius_table(d) if radius_table else None,
+            sections=sections,
+        )
+        verdict = overall_verdict(a, fixture)
         worst = a.extremes["dS_worst"][0]
+        status = EXIT_FAIL if verdict.inspected and not verdict.passed and not no_fail else EXIT_OK
         if as_json:
-            doc = {
+            from camtol.report.tables import accuracy_json
+
+            doc: dict[str, Any] = {
                 "path": str(output),
                 "design": a.design.name,
+                "verdict": {
+                    "status": verdict.status,
+                    "inspected": verdict.inspected,
+                    "reasons": list(verdict.reasons),
+                },
                 "max_worst_case": {"value": worst.value, "unit": a.error_unit},
-                "accuracy": a.accuracy.describe(),
+                "accuracy": accuracy_json(a.accuracy),
             }
+            if fixture is not None and fixture.inspection.verdicts:
+                from camtol.inspection.decision import decision_rule_text
+
+                doc["decision_rule"] = {
+                    "rule": fixture.decision,
+                    "statement": decision_rule_text(fixture.decision),
+                }
             echo_json(doc, command="report")
         elif not quiet:
-            click.echo(f"wrote {output} ({a.design.name}: {a.accuracy.describe()})")
-        return EXIT_OK
+            click.echo(f"{verdict.headline}; wrote {output}")
+        return status
 
     raise _Exit(run_guarded(body))

@@ -233,6 +233,25 @@ class OperationSchema(_Strict):
     ) = None
 
 
+class TraceabilitySchema(_Strict):
+    """Optional ``[traceability]`` table: what identifies the part in a QA report."""
+
+    part_number: str | None = None
+    drawing_number: str | None = None
+    revision: str | None = None
+    serial: str | None = None
+    inspector: str | None = None
+    instrument: str | None = None
+    date: str | None = None
+
+
+class DrawingSchema(_Strict):
+    """Optional ``[drawing]`` table: features drawn in the DXF/SVG export only."""
+
+    bore_diameter_mm: float | None = Field(default=None, gt=0)
+    hub_diameter_mm: float | None = Field(default=None, gt=0)
+
+
 class DesignSchema(_Strict):
     """Top level of a design file."""
 
@@ -248,6 +267,8 @@ class DesignSchema(_Strict):
     inspection: dict[str, Any] = {}
     # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
     statistics: dict[str, Any] = {}
+    traceability: TraceabilitySchema = TraceabilitySchema()
+    drawing: DrawingSchema = DrawingSchema()
 
 
 def _short(value: Any) -> str:
@@ -442,12 +463,24 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             description=top.description,
             reference=top.reference,
             inspection=_inspection(top.inspection, base_dir),
-            extras={"statistics": top.statistics} if top.statistics else {},
+            extras=_extras(top),
         )
     except ConfigError:
         raise
     except DesignError as exc:
         raise ConfigError(str(exc)) from None
+
+
+def _extras(top: DesignSchema) -> dict[str, object]:
+    """``[traceability]``, ``[drawing]``, ``[statistics]`` as ``CamDesign.extras``."""
+    out: dict[str, object] = {}
+    trace = top.traceability.model_dump(exclude_none=True)
+    if trace:
+        out["traceability"] = trace
+    out.update(top.drawing.model_dump(exclude_none=True))
+    if top.statistics:
+        out["statistics"] = top.statistics
+    return out
 
 
 def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | None:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camtol import jet
 from camtol.design import CamDesign
 from camtol.jet import FloatArray
 from camtol.kinematics import analysis_grid, kinematics
@@ -44,6 +45,8 @@ class CamView:
         Instant centre Q = I23 at that angle. [mm]
     outline : Outline
         The follower at that angle. [mm]
+    pitch_x_mm, pitch_y_mm : ndarray or None
+        The pitch curve (roller-centre path) of a roller follower, else None. [mm]
     """
 
     label: str
@@ -54,6 +57,8 @@ class CamView:
     centre_x_mm: float
     centre_y_mm: float
     outline: Outline
+    pitch_x_mm: FloatArray | None = None
+    pitch_y_mm: FloatArray | None = None
 
 
 @dataclass(frozen=True)
@@ -106,6 +111,15 @@ def cam_drawing(design: CamDesign, theta_deg: float, *, step_deg: float = 0.25) 
             scale = float(np.nanmin(k.radius_mm))
         k0 = kinematics(cam.design, here, check=False)
         outline = cam.mechanism.outline(theta_rad, float(k0.lift[0]), float(k0.velocity[0]), scale)
+        g = cam.mechanism.contact(k.theta_rad, k.lift, k.velocity)
+        pitch = (
+            (
+                np.asarray(jet.value(g.extras["pitch_x"]), dtype=float),
+                np.asarray(jet.value(g.extras["pitch_y"]), dtype=float),
+            )
+            if "pitch_x" in g.extras
+            else (None, None)
+        )
         views.append(
             CamView(
                 cam.label,
@@ -116,6 +130,7 @@ def cam_drawing(design: CamDesign, theta_deg: float, *, step_deg: float = 0.25) 
                 float(k0.centre_x_mm[0]),
                 float(k0.centre_y_mm[0]),
                 outline,
+                *pitch,
             )
         )
     return CamDrawing(design.name, float(theta_deg), scale, tuple(views))

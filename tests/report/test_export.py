@@ -20,6 +20,7 @@ from camtol.exceptions import UndercutError
 from camtol.kinematics import analysis_grid, kinematics
 from camtol.mechanisms import FlatTranslating, RollerOscillating, RollerTranslating
 from camtol.motion import Segment, SegmentProgram
+from camtol.report.drawing_marks import MARK_COLOURS
 from camtol.report.export import (
     EXPORT_SUFFIXES,
     ExportError,
@@ -110,6 +111,8 @@ def read_dxf_polylines(path: Path) -> dict[str, np.ndarray]:
     doc = ezdxf.readfile(path)
     out = {}
     for e in doc.modelspace().query("LWPOLYLINE"):
+        if e.dxf.layer in MARK_COLOURS:  # annotations (timing mark, rotation arrow)
+            continue
         assert e.closed, e.dxf.layer
         out[e.dxf.layer] = np.array(e.get_points("xy"), dtype=float)
     return out

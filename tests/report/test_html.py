@@ -19,6 +19,7 @@ from camtol.analysis import Analysis, analyse
 from camtol.cli import main
 from camtol.config import example_names, load_example
 from camtol.design import IT_CONVENTIONS
+from camtol.radius_table import radius_table
 from camtol.report.export import ExportError
 from camtol.report.html import CONVENTIONS, report_html, write_report
 from camtol.study import study
@@ -195,3 +196,30 @@ def test_report_renders_in_chromium(name: str, tmp_path: Path) -> None:
     assert img.shape[0] >= 1000 and img.shape[1] >= 1000
     ink = np.any(img[..., :3] < 0.9, axis=-1).mean()
     assert ink > 0.01, f"screenshot nearly blank ({ink:.2%} non-white pixels)"
+
+
+def pdf_pages(pdf: Path) -> int:
+    """Number of page objects (``/Type /Page``, not ``/Pages``) in a PDF file."""
+    return len(re.findall(rb"/Type\s*/Page(?![s\w])", pdf.read_bytes()))
+
+
+@pytest.mark.browser
+@needs_chromium
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_report_prints_to_pdf(name: str, tmp_path: Path) -> None:
+    # Print CSS (issue 13 item 15): A4, no table or figure split, no orphan headings. The
+    # built-in examples print to 4-5 pages today (verdicts, inputs, conventions and
+    # extremes, one page per figure); 3-8 allows for font metrics of other machines.
+    out = tmp_path / f"{name}.html"
+    write_report(study(analysis_of(name)), out)
+    pdf = tmp_path / f"{name}.pdf"
+    r = run_chromium(out, tmp_path, "--no-pdf-header-footer", f"--print-to-pdf={pdf}")
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    pages = pdf_pages(pdf)
+    assert 3 <= pages <= 8, pages
+    if name == "roller-translating":  # the 1° radius table: 360 rows, a few more pages
+        write_report(study(analysis_of(name)), out, radius_table=radius_table(load_example(name)))
+        r = run_chromium(out, tmp_path, "--no-pdf-header-footer", f"--print-to-pdf={pdf}")
+        assert r.returncode == 0, r.stderr[-2000:]
+        assert 3 <= pdf_pages(pdf) - pages <= 12

@@ -141,7 +141,9 @@ def test_fixture_figure_and_panels() -> None:
     est = next(x for x in arts if x.get_label() == "Δf_est (sum)")
     np.testing.assert_allclose(est.get_ydata(), res.variation.df_est_um)
     arts = plots.profile_error_estimate_plot(res, tolerance_a_um=(-22.0, 22.0))
-    hlines = [x for x in arts if isinstance(x, Line2D) and x.get_linestyle() == ":"]
+    hlines = [
+        x for x in arts if isinstance(x, Line2D) and str(x.get_gid()).startswith("tolerance_A")
+    ]
     assert sorted(h.get_ydata()[0] for h in hlines) == [-22.0, 22.0]
 
 

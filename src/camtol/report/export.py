@@ -68,79 +68,6 @@ def _csv_text(cols: dict[str, FloatArray]) -> str:
     return buf.getvalue()
 
 
-_DXF_COLOURS = {"PROFILE": 7, "PITCH_CURVE": 3, "CUTTER_PATH": 1}
-
-
-def _dxf_bytes(points: ProfilePoints) -> bytes:
-    from ezdxf.document import Drawing
-    from ezdxf.filemanagement import new
-
-    doc: Drawing = new("R2013", units=4)  # 4 = millimetres
-    doc.header["$MEASUREMENT"] = 1  # metric
-    msp = doc.modelspace()
-    for c in points.curves:
-        colour = next((v for k, v in _DXF_COLOURS.items() if c.layer.endswith(k)), 7)
-        if c.layer.startswith("CAM_B_"):
-            colour = {7: 5, 3: 4, 1: 6}.get(colour, colour)
-        doc.layers.add(c.layer, color=colour)
-        msp.add_lwpolyline(
-            np.column_stack([c.x_mm, c.y_mm]).tolist(),
-            format="xy",
-            close=True,
-            dxfattribs={"layer": c.layer},
-        )
-    doc.layers.add("CAM_CENTRE", color=2)
-    msp.add_point((0.0, 0.0), dxfattribs={"layer": "CAM_CENTRE"})
-    stream = io.StringIO()
-    doc.write(stream)
-    return stream.getvalue().encode(doc.output_encoding)
-
-
-_SVG_COLOURS = {"PROFILE": "#000000", "PITCH_CURVE": "#2ca02c", "CUTTER_PATH": "#d62728"}
-
-
-def _svg_text(points: ProfilePoints) -> str:
-    """SVG in millimetres; y is flipped so the drawing looks as in the cam frame."""
-    from camtol import __version__
-
-    xs = np.concatenate([c.x_mm for c in points.curves])
-    ys = np.concatenate([c.y_mm for c in points.curves])
-    margin = 0.05 * float(max(np.ptp(xs), np.ptp(ys))) + 1.0
-    x0, x1 = float(xs.min()) - margin, float(xs.max()) + margin
-    y0, y1 = float(-ys.max()) - margin, float(-ys.min()) + margin
-    w, h = x1 - x0, y1 - y0
-    out = [
-        '<?xml version="1.0" encoding="UTF-8"?>',
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.3f}mm" height="{h:.3f}mm"'
-        f' viewBox="{x0:.6f} {y0:.6f} {w:.6f} {h:.6f}">',
-        f"<title>{_xml_escape(points.design_name)}: cam profile (camtol {__version__})</title>",
-        "<desc>Cam frame X-Y of THEORY §0 in millimetres, origin at the cam pivot O2;"
-        " SVG y = -Y. Chordal tolerance"
-        f" {points.tolerance_mm * 1e3:g} µm.</desc>",
-    ]
-    for c in points.curves:
-        colour = next((v for k, v in _SVG_COLOURS.items() if c.layer.endswith(k)), "#000000")
-        d = " ".join(
-            f"{'M' if i == 0 else 'L'}{x:.6f},{-y:.6f}"
-            for i, (x, y) in enumerate(zip(c.x_mm, c.y_mm, strict=True))
-        )
-        out.append(
-            f'<g id="{c.layer}"><title>{_xml_escape(c.description)}</title>'
-            f'<path d="{d} Z" fill="none" stroke="{colour}" stroke-width="0.15"/></g>'
-        )
-    s = 0.02 * (w + h)
-    out.append(
-        f'<g id="CAM_CENTRE"><path d="M{-s:.4f},0 L{s:.4f},0 M0,{-s:.4f} L0,{s:.4f}"'
-        ' stroke="#888888" stroke-width="0.1" fill="none"/></g>'
-    )
-    out.append("</svg>")
-    return "\n".join(out) + "\n"
-
-
-def _xml_escape(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-
-
 def export_format(path: str | Path) -> ExportFormat:
     """Return the export format chosen by a file name's suffix.
 
@@ -180,7 +107,9 @@ def write_profile(
     path : str or Path
         Output file: ``.csv`` (one row per cam angle: ``theta_deg`` and ``<layer>_x_mm``,
         ``<layer>_y_mm`` of every curve), ``.dxf`` (closed LWPOLYLINEs, one layer per
-        curve, units mm) or ``.svg`` (one group per curve, millimetres).
+        curve, units mm) or ``.svg`` (one group per curve, millimetres); DXF and SVG also
+        carry the timing mark, rotation arrow, bore/hub and labels of
+        :mod:`camtol.report.drawing_marks`.
     tolerance_mm : float
         Chordal tolerance of the polylines, 1e-7..1 (default 0.1 µm). [mm]
     cutter_radius_mm : float, optional
@@ -216,9 +145,18 @@ def write_profile(
         require_finite(f"{c.layer} y_mm", c.y_mm, theta_deg=deg, where=str(p))
     if fmt == "csv":
         data = _csv_text(profile_table(design, points)).encode("utf-8")
-    elif fmt == "dxf":
-        data = _dxf_bytes(points)
     else:
-        data = _svg_text(points).encode("utf-8")
+        from camtol import __version__
+        from camtol.report.drawing_marks import drawing_marks
+        from camtol.report.profile_writers import dxf_bytes, svg_text
+
+        profiles = [
+            (c.description.removesuffix(" profile"), c.x_mm, c.y_mm)
+            for c in points.curves
+            if c.layer.endswith("PROFILE")
+        ]
+        extent = max(float(np.hypot(c.x_mm, c.y_mm).max()) for c in points.curves)
+        marks = drawing_marks(design, profiles, version=__version__, extent_mm=extent)
+        data = dxf_bytes(points, marks) if fmt == "dxf" else svg_text(points, marks).encode()
     atomic_write(p, data)
     return points

@@ -18,17 +18,28 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.design import IT_CONVENTIONS
+from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.report.qa import (
+    PRINT_CSS,
+    TRACEABILITY_FIELDS,
+    InspectionReport,
+    OverallVerdict,
+    _where,
+    overall_verdict,
+    radius_table_html,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from camtol.analysis import Analysis
-    from camtol.inspection.fixture import FixtureInspection
-    from camtol.inspection.spec import FixtureSpec
+    from camtol.radius_table import RadiusTable
     from camtol.study import Study
 
-__all__ = ["CONVENTIONS", "figure_svg", "report_html", "write_report"]
+__all__ = ["CONVENTIONS", "InspectionReport", "figure_svg", "report_html", "write_report"]
+
+#: Sentinel: "the study's own fixture inspection" (the default of report_html).
+_FROM_STUDY: Any = object()
 
 #: Conventions of THEORY §0 stated in every report.
 CONVENTIONS: tuple[str, ...] = (
@@ -125,7 +136,32 @@ def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = No
     return "".join(out)
 
 
-def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None) -> str:
+def _inspection(study: Study) -> InspectionReport | None:
+    if study.fixture is None or study.fixture_spec is None:
+        return None
+    return InspectionReport(study.fixture, study.fixture_spec)
+
+
+def _banner(v: OverallVerdict) -> str:
+    cls = {"PASS": "pass", "FAIL": "fail"}.get(v.status, "info")
+    what = "Inspected part" if v.inspected else "Design check (no measured part)"
+    items = "".join(f"<li>{_e(r)}</li>" for r in v.reasons)
+    return (
+        f'<div class="banner {cls}" id="verdict" role="status"><strong>{_e(v.status)}</strong>'
+        f" &mdash; {_e(what)}<ul>{items}</ul></div>"
+    )
+
+
+def _traceability(design: CamDesign, given: dict[str, str] | None) -> list[list[str]]:
+    fields: dict[str, str] = {}
+    raw = design.extras.get("traceability")
+    if isinstance(raw, dict):
+        fields.update({str(k): str(v) for k, v in raw.items()})
+    fields.update({k: v for k, v in (given or {}).items() if v})
+    return [[label, fields[key]] for key, label in TRACEABILITY_FIELDS if key in fields]
+
+
+def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     d = a.design
     k = a.kinematics
     worst = a.extremes["dS_worst"][0]
@@ -159,7 +195,18 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
             f" design limit {limit:g}°."
         )
     if fixture is not None:
-        res, _ = fixture
+        res = fixture.inspection
+        if res.verdicts:
+            from camtol.inspection.decision import decision_rule_text
+
+            items.append(f"Decision rule: {_e(decision_rule_text(fixture.decision))}.")
+        if fixture.record is not None:
+            p = fixture.record.processed
+            items.append(
+                f"Indicator record: {p.revolutions} revolutions, measurement uncertainty"
+                f" u_f up to {_fmt(p.u_f_max_um)} µm (rms {_fmt(p.u_f_rms_um)} µm,"
+                " THEORY §4.4)."
+            )
         if not res.verdicts:
             items.append("Fixture: no measured Δf in the design file; acceptance bands only.")
         for cam, v in sorted(res.verdicts.items()):
@@ -169,7 +216,7 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
                     f" {_fmt(v.min_margin_um)} µm; a necessary condition, THEORY §4.3)."
                 )
             else:
-                where = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in v.failing_intervals_deg)
+                where = _where(v, shown=12)
                 items.append(
                     f'Fixture, cam {cam}: <span class="fail">FAILS</span> at θ = {_e(where)}'
                     f" (smallest margin {_fmt(v.min_margin_um)} µm, THEORY §4.3)."
@@ -177,7 +224,14 @@ def _verdicts(a: Analysis, fixture: tuple[FixtureInspection, FixtureSpec] | None
     return "<ul>" + "".join(f"<li>{i}</li>" for i in items) + "</ul>"
 
 
-def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
+def report_html(
+    study: Study,
+    *,
+    fixture: InspectionReport | None = _FROM_STUDY,
+    traceability: dict[str, str] | None = None,
+    radius_table: RadiusTable | None = None,
+    sections: Sequence[str] = (),
+) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
     Parameters
@@ -185,6 +239,16 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     study : Study
         Every result the report shows, from :func:`camtol.study.study`; the report only
         formats it.
+    fixture : InspectionReport or None, optional
+        A finished fixture inspection to report (``camtol report --df-mea/--record``,
+        with its decision rule and record); None for none; by default the study's own
+        fixture inspection (simple decision rule).
+    traceability : dict of str to str, optional
+        Traceability fields (keys of :data:`camtol.report.qa.TRACEABILITY_FIELDS`); they
+        override the design's ``[traceability]`` table.
+    radius_table : RadiusTable, optional
+        Append this radius table (:func:`camtol.radius_table.radius_table`, every 1° of
+        polar angle) as an appendix.
     sections : sequence of str
         Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
         :func:`camtol.report.tolerancing.montecarlo_section`).
@@ -192,18 +256,16 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     Returns
     -------
     str
-        The complete HTML document.
+        The complete HTML document; the overall PASS/FAIL banner comes first.
     """
     from camtol import __version__
     from camtol.report.plots import analysis_figure, fixture_figure
 
     a = study.analysis
     d = a.design
-    fixture = (
-        (study.fixture, study.fixture_spec)
-        if study.fixture is not None and study.fixture_spec is not None
-        else None
-    )
+    if fixture is _FROM_STUDY:
+        fixture = _inspection(study)
+    verdict = overall_verdict(a, fixture)
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -211,8 +273,9 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
         '<meta name="viewport" content="width=device-width, initial-scale=1">',
         '<link rel="icon" href="data:,">',
         f"<title>{_e(d.name)}: camtol report</title>",
-        f"<style>{_CSS}</style></head><body>",
+        f"<style>{_CSS}{PRINT_CSS}</style></head><body>",
         f"<h1>{_e(d.name)}</h1>",
+        _banner(verdict),
         f'<p class="meta">camtol {_e(__version__)} report, generated {now}.'
         f" Analysis grid {a.step_deg:g}°, extremes refined to step/1000.</p>",
     ]
@@ -223,6 +286,10 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     if d.reference:
         parts.append(f'<p class="meta">Reference: {_e(d.reference)}</p>')
 
+    trace = _traceability(d, traceability)
+    if trace:
+        parts.append("<h2>Traceability</h2>")
+        parts.append(_table(["field", "value"], trace))
     parts.append("<h2>Verdicts</h2>")
     parts.append(_verdicts(a, fixture))
 
@@ -242,7 +309,7 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
         parts.append("<h3>Tolerances</h3>")
         parts.append(_table(["source", "error", "deviation", "obtained from"], trows))
     if fixture is not None:
-        _, spec = fixture
+        spec = fixture.spec
         er = spec.errors
         frows = [
             [
@@ -289,17 +356,25 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     figures: list[tuple[Any, str]] = [
         (
             analysis_figure(a, study.drawing),
-            "The cam and follower at the angle of the largest worst-case error; shift and"
-            " pressure angles; radial-error factor; displacement, velocity and acceleration"
-            " errors per source (THEORY §2-3, CW06 Figs. 4-9).",
+            "The cam and follower at the angle of the largest worst-case error (with the"
+            " pitch curve of a roller); the nominal motion S, V, A, J (at the design speed"
+            " when given); shift and pressure angles with the pressure-angle limit;"
+            " radial-error factor; displacement errors per source with worst case and RMS;"
+            " velocity and acceleration errors per source inside their worst-case envelopes"
+            " (THEORY §1-3, CW06 Figs. 4-9).",
         )
     ]
     if fixture is not None:
-        res, spec = fixture
+        spec = fixture.spec
         figures.append(
             (
                 fixture_figure(
-                    res, tolerance_a_um=spec.tolerance_a_um, tolerance_b_um=spec.tolerance_b_um
+                    fixture.inspection,
+                    tolerance_a_um=spec.tolerance_a_um,
+                    tolerance_b_um=spec.tolerance_b_um,
+                    design_name=d.name,
+                    record=fixture.record,
+                    decision_rule=fixture.decision,
                 ),
                 "Centre-distance variation Δf and its components, estimated profile errors with"
                 " the tolerances, and the acceptance bands with the measured Δf; failing"
@@ -311,6 +386,15 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
             f'<figure class="figure" id="figure-{i}">{figure_svg(fig, prefix=f"fig{i}")}'
             f"<figcaption>Figure {i}. {_e(caption)}</figcaption></figure>"
         )
+    if radius_table is not None:
+        parts.append('<section class="appendix"><h2>Appendix: radius table</h2>')
+        parts.append(
+            '<p class="meta">Profile radius R (and pitch-curve radius of a roller) every 1° of'
+            " polar angle in the cam frame X-Y (origin at the pivot O2, angle counterclockwise"
+            " from X; THEORY §0), interpolated from a 0.02° sampling of the exact profile.</p>"
+        )
+        parts.append(radius_table_html(radius_table, _e))
+        parts.append("</section>")
     parts.append(
         f'<hr><p class="meta">Generated by camtol {_e(__version__)}. Equations, sign'
         " conventions and sources (CW06, CW11, WC05, Wu03): the Theory page of the camtol"
@@ -321,7 +405,15 @@ def report_html(study: Study, *, sections: Sequence[str] = ()) -> str:
     return "\n".join(parts) + "\n"
 
 
-def write_report(study: Study, path: str | Path, *, sections: Sequence[str] = ()) -> Analysis:
+def write_report(
+    study: Study,
+    path: str | Path,
+    *,
+    fixture: InspectionReport | None = _FROM_STUDY,
+    traceability: dict[str, str] | None = None,
+    radius_table: RadiusTable | None = None,
+    sections: Sequence[str] = (),
+) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
     Parameters
@@ -330,8 +422,14 @@ def write_report(study: Study, path: str | Path, *, sections: Sequence[str] = ()
         Every result the report shows, from :func:`camtol.study.study`.
     path : str or Path
         Output file; must end in ``.html`` or ``.htm``.
+    fixture : InspectionReport or None, optional
+        As for :func:`report_html`.
+    traceability : dict of str to str, optional
+        As for :func:`report_html`.
+    radius_table : RadiusTable, optional
+        As for :func:`report_html`.
     sections : sequence of str
-        Extra HTML sections inserted before the figures.
+        As for :func:`report_html`.
 
     Returns
     -------
@@ -366,5 +464,14 @@ def write_report(study: Study, path: str | Path, *, sections: Sequence[str] = ()
     from camtol.report.tables import curves_columns
 
     require_finite_columns(curves_columns(study.analysis), where=str(p))
-    atomic_write(p, report_html(study, sections=sections))
+    atomic_write(
+        p,
+        report_html(
+            study,
+            fixture=fixture,
+            traceability=traceability,
+            radius_table=radius_table,
+            sections=sections,
+        ),
+    )
     return study.analysis

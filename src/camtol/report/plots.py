@@ -25,7 +25,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report.plot_style import COLOURS, axes, axis_label, pretty_unit, theta_axis
+from camtol.report._figstyle import _legend_outside, _stamp
+from camtol.report.plot_style import COLOURS as _COLOURS
+from camtol.report.plot_style import axes, pretty_unit
+from camtol.report.plot_style import axes as _axes
+from camtol.report.plot_style import axis_label as _label
+from camtol.report.plot_style import theta_axis as _theta_axis
 from camtol.report.plots_fixture import (
     acceptance_plot,
     conjugate_variation_plot,
@@ -53,6 +58,7 @@ __all__ = [
     "profile_error_estimate_plot",
     "radial_factor_plot",
     "shift_angle_plot",
+    "svaj_plot",
     "velocity_error_plot",
 ]
 
@@ -95,23 +101,34 @@ def shift_angle_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     λ is the angle between the radial line O2A and the common normal (THEORY §2.5,
     CW06 eqs. 38-42); u = |PA| of a flat face (THEORY §2.1-2.2).
     """
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     t = _theta_deg(analysis)
     c = analysis.curves
     arts: list[Any] = []
-    arts += ax.plot(t, c["shift_angle"], color=COLOURS[0], label="shift angle λ")
-    arts += ax.plot(t, c["pressure_angle"], color=COLOURS[3], ls="--", label="pressure angle φ")
-    ax.set_ylabel(axis_label("λ, φ", "deg"))
-    theta_axis(ax)
-    handles = list(arts)
+    arts += ax.plot(t, c["shift_angle"], color=_COLOURS[0], label="shift angle λ")
+    arts += ax.plot(t, c["pressure_angle"], color=_COLOURS[3], ls="--", label="pressure angle φ")
+    limit = analysis.design.pressure_angle_limit_deg
+    if limit is not None:
+        arts.append(
+            ax.axhline(limit, color=_COLOURS[3], lw=1.0, ls=":", label=f"limit ±{limit:g}°")
+        )
+        arts.append(ax.axhline(-limit, color=_COLOURS[3], lw=1.0, ls=":"))
+    ax.set_ylabel(_label("λ, φ", "deg"))
+    _theta_axis(ax)
+    handles = list(arts[:3])  # λ, φ and (one of) the limit lines
     if "face_contact" in c:
         ax2 = ax.twinx()
-        line = ax2.plot(t, c["face_contact"], color=COLOURS[2], ls="-.", label="contact on face u")
-        ax2.set_ylabel(axis_label("u", "mm"))
+        line = ax2.plot(t, c["face_contact"], color=_COLOURS[2], ls="-.", label="contact on face u")
+        ax2.set_ylabel(_label("u", "mm"))
         arts += line
         handles += line
-    ax.legend(handles=handles, loc="best", fontsize="small")
+    if "face_contact" in c:  # clear of the twin axis' labels
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.14, 1.0), fontsize="small")
+    else:
+        _legend_outside(ax, handles)
     ax.set_title("Shift angle, pressure angle" + (", u" if "face_contact" in c else ""))
+    _stamp(ax, analysis.design.name, made_here)
     return arts
 
 
@@ -130,39 +147,49 @@ def radial_factor_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     list
         The artists drawn.
     """
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     unit = next(q.unit for q in analysis.quantities if q.key == "radial_factor")
     symbol = "cos λ / cos φ" if analysis.design.mechanism.output == "translating" else "ΔS_r/Δr"
     arts = list(ax.plot(_theta_deg(analysis), analysis.curves["radial_factor"], color="k"))
-    ax.set_ylabel(axis_label(symbol, unit))
+    ax.set_ylabel(_label(symbol, unit))
     ax.set_title("Radial-error factor ΔS_r/Δr")
-    theta_axis(ax)
+    _theta_axis(ax)
+    _stamp(ax, analysis.design.name, made_here)
     return arts
 
 
 def _error_plot(
     analysis: Analysis, prefix: str, unit: str, title: str, ax: Axes | None, combined: bool
 ) -> list[Any]:
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     t = _theta_deg(analysis)
     arts: list[Any] = []
+    worst = analysis.curves[f"{prefix}_worst"]
+    if analysis.errors.sources and not combined:  # the worst-case envelope ±Σ|ΔX_p|
+        arts.append(
+            ax.fill_between(
+                t, -worst, worst, color="0.85", lw=0, label="worst-case envelope ±Σ|ΔX_p|"
+            )
+        )
     for i, key in enumerate(_source_keys(analysis)):
         arts += ax.plot(
             t,
             analysis.curves[f"{prefix}_{key}"],
-            color=COLOURS[i % len(COLOURS)],
+            color=_COLOURS[i % len(_COLOURS)],
             label=f"{prefix}_{_source_label(analysis, key)}".replace("d", "Δ", 1),
         )
     if combined:
-        arts += ax.plot(t, analysis.curves[f"{prefix}_worst"], "k-", lw=1.6, label="worst case")
+        arts += ax.plot(t, worst, "k-", lw=1.6, label="worst case")
         arts += ax.plot(t, analysis.curves[f"{prefix}_rms"], "k--", lw=1.2, label="RMS")
     ax.axhline(0.0, color="0.5", lw=0.6)
     symbol = prefix.replace("d", "Δ", 1)
-    ax.set_ylabel(axis_label(symbol, unit))
+    ax.set_ylabel(_label(symbol, unit))
     ax.set_title(title)
-    theta_axis(ax)
+    _theta_axis(ax)
     if arts:
-        ax.legend(loc="best", fontsize="small")
+        _legend_outside(ax)
     else:
         ax.text(
             0.5,
@@ -173,6 +200,7 @@ def _error_plot(
             transform=ax.transAxes,
             color="0.4",
         )
+    _stamp(ax, analysis.design.name, made_here)
     return arts
 
 
@@ -241,11 +269,6 @@ def acceleration_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[
 
 
 # ---------------------------------------------------------------------------------------
-# The cam and its follower
-# ---------------------------------------------------------------------------------------
-
-
-# ---------------------------------------------------------------------------------------
 # The cam and follower at one angle
 # ---------------------------------------------------------------------------------------
 def _segment(ax: Axes, p: Any, q: Any, **kw: Any) -> list[Any]:
@@ -275,14 +298,23 @@ def cam_plot(drawing: CamDrawing, ax: Axes | None = None) -> list[Any]:
     contact point A, the instant centre Q = I23 and the common normal AQ (THEORY §2).
     The follower is the mechanism's own outline (rollers, faces, arms, pivots).
     """
+    made_here = ax is None
     ax = axes(ax, (6.0, 6.0))
     arts: list[Any] = []
     labelled = len(drawing.cams) > 1
     for i, cam in enumerate(drawing.cams):
         name = f"cam {cam.label}" if labelled else "cam profile"
-        arts += ax.plot(
-            cam.profile_x_mm, cam.profile_y_mm, color=("k", "#1f4e9c")[i % 2], lw=1.5, label=name
-        )
+        colour = ("k", "#1f4e9c")[i % 2]
+        arts += ax.plot(cam.profile_x_mm, cam.profile_y_mm, color=colour, lw=1.5, label=name)
+        if cam.pitch_x_mm is not None and cam.pitch_y_mm is not None:
+            arts += ax.plot(
+                cam.pitch_x_mm,
+                cam.pitch_y_mm,
+                color=colour,
+                lw=0.8,
+                ls="-.",
+                label=f"pitch curve {cam.label}".rstrip(),
+            )
     rb = drawing.base_radius_mm
     phi = np.linspace(0.0, 2.0 * math.pi, 361)
     arts += ax.plot(
@@ -308,7 +340,8 @@ def cam_plot(drawing: CamDrawing, ax: Axes | None = None) -> list[Any]:
     ax.set_ylabel("Y [mm]")
     ax.set_title(f"{drawing.design_name}: follower at θ = {drawing.theta_deg:g}° (cam frame)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    ax.legend(loc="best", fontsize="small")
+    _legend_outside(ax)
+    _stamp(ax, drawing.design_name, made_here)
     return arts
 
 
@@ -339,41 +372,133 @@ def _draw_outline(
 # ---------------------------------------------------------------------------------------
 # The whole figure of `camtol analyze --plot`
 # ---------------------------------------------------------------------------------------
+def _motion_peaks(analysis: Analysis) -> Any:
+    """Return the nominal-motion peaks: the analysis field when present, else computed."""
+    peaks = getattr(analysis, "motion", None)
+    if peaks is not None:
+        return peaks
+    from camtol.summary import motion_peaks
+
+    return motion_peaks(
+        analysis.kinematics,
+        output=analysis.design.mechanism.output,
+        omega_rad_s=analysis.design.omega_rad_s,
+    )
+
+
+def _svaj_scales(analysis: Analysis) -> list[tuple[str, str, float]]:
+    """Return (symbol, display unit, factor from per-radian values) for S, V, A, J."""
+    w = analysis.design.omega_rad_s
+    if analysis.design.mechanism.output == "oscillating":
+        s = [("ξ", "°", math.degrees(1.0))]
+        if w is None:
+            return s + [("V", "rad/rad", 1.0), ("A", "rad/rad²", 1.0), ("J", "rad/rad³", 1.0)]
+        return s + [("V", "rad/s", w), ("A", "rad/s²", w**2), ("J", "rad/s³", w**3)]
+    s = [("S", "mm", 1.0)]
+    if w is None:
+        return s + [("V", "mm/rad", 1.0), ("A", "mm/rad²", 1.0), ("J", "mm/rad³", 1.0)]
+    return s + [("V", "m/s", w * 1e-3), ("A", "m/s²", w**2 * 1e-3), ("J", "m/s³", w**3 * 1e-3)]
+
+
+def svaj_plot(analysis: Analysis, axs: list[Axes] | None = None) -> list[Any]:
+    """Nominal follower motion S, V, A, J (the SVAJ diagram; THEORY §1).
+
+    Parameters
+    ----------
+    analysis : Analysis
+        Result of :func:`camtol.analysis.analyse`.
+    axs : list of 4 matplotlib Axes, optional
+        Where to draw S, V, A and J (top to bottom); a new figure otherwise.
+
+    Returns
+    -------
+    list
+        The artists drawn.
+
+    Notes
+    -----
+    At the design speed ω the derivatives are time derivatives (V = ω dS/dθ, A = ω²
+    d²S/dθ², J = ω³ d³S/dθ³) in m/s, m/s², m/s³ (rad/s… for an oscillating follower);
+    without a speed they are per radian of cam angle. The peaks in each panel's label come
+    from :func:`camtol.summary.motion_peaks`.
+    """
+    made_here = axs is None
+    if axs is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(7.0, 8.0), layout="constrained")
+        axs = list(fig.subplots(4, 1, sharex=True))
+    k = analysis.kinematics
+    t = _theta_deg(analysis)
+    peaks = _motion_peaks(analysis)
+    peak_of = {"V": peaks.velocity, "A": peaks.acceleration, "J": peaks.jerk}
+    arts: list[Any] = []
+    for i, (ax, y, (sym, unit, f)) in enumerate(
+        zip(axs, (k.lift, k.velocity, k.acceleration, k.jerk), _svaj_scales(analysis), strict=True)
+    ):
+        arts += ax.plot(t, np.asarray(y) * f, color=_COLOURS[i], lw=1.2)
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.set_ylabel(f"{sym} [{unit}]")
+        _theta_axis(ax)
+        if sym in peak_of:
+            p = peak_of[sym]
+            ax.set_title(
+                f"peak |{sym}| = {p.abs_max * f:.4g} {unit}", fontsize="small", loc="right"
+            )
+        if i < 3:  # one θ axis label, under J
+            ax.xaxis.label.set_visible(False)
+            ax.tick_params(labelbottom=False)
+    speed = analysis.design.speed_rpm
+    axs[0].set_title(
+        "Nominal motion (SVAJ)" + (f" at {speed:g} rpm" if speed else ", per radian"), loc="left"
+    )
+    _stamp(axs[0], analysis.design.name, made_here)
+    return arts
+
+
 def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Figure:
     """Draw the paper-like multi-panel figure of an analysis (CW06 Figs. 4-9).
 
-    Panels: the cam and follower (``drawing``, e.g. from
-    :func:`camtol.drawing.analysis_drawing`, at the angle where the worst-case error is
-    largest); λ, φ and u; the radial-error factor; ΔS per source with worst case and
-    RMS; ΔV and ΔA per source.
+    Panels: the cam (with the pitch curve of a roller) and follower at a chosen angle
+    (default: where the worst-case error is largest); the nominal S, V, A, J (at speed
+    when the design gives one); λ and φ with the pressure-angle limit, and u; the
+    radial-error factor; ΔS per source with worst case and RMS; ΔV and ΔA per source
+    inside their worst-case envelopes. Legends stand outside the axes so that they never
+    hide a curve.
 
     Parameters
     ----------
     analysis : Analysis
         Result of :func:`camtol.analysis.analyse`.
     drawing : CamDrawing
-        The cam and follower to draw in the first panel.
+        The cam and follower to draw in the first panel (e.g. from
+        :func:`camtol.drawing.analysis_drawing`, at the angle where the worst-case error
+        is largest).
 
     Returns
     -------
     matplotlib.figure.Figure
-        Not attached to pyplot; save with ``fig.savefig(path)``.
+        Not attached to pyplot; save with ``fig.savefig(path)``. Its title names the
+        design and the camtol version.
     """
     from matplotlib.figure import Figure
 
     from camtol import __version__
 
-    fig = Figure(figsize=(13.0, 15.0), layout="constrained")
-    axs = fig.subplots(3, 2)
+    fig = Figure(figsize=(14.0, 20.0), layout="constrained")
+    gs = fig.add_gridspec(4, 2, height_ratios=(1.4, 1.0, 1.0, 1.0))
     worst = analysis.extremes["dS_worst"][0]
     if drawing is None:
         raise TypeError("analysis_figure needs the drawing (camtol.drawing.analysis_drawing)")
-    cam_plot(drawing, ax=axs[0, 0])
-    shift_angle_plot(analysis, ax=axs[0, 1])
-    radial_factor_plot(analysis, ax=axs[1, 0])
-    lift_error_plot(analysis, ax=axs[1, 1])
-    velocity_error_plot(analysis, ax=axs[2, 0])
-    acceleration_error_plot(analysis, ax=axs[2, 1])
+    cam_plot(drawing, ax=fig.add_subplot(gs[0, 0]))
+    svaj = gs[0, 1].subgridspec(4, 1, hspace=0.05)
+    svaj_axes = [fig.add_subplot(svaj[i]) for i in range(4)]
+    svaj_plot(analysis, svaj_axes)
+    shift_angle_plot(analysis, ax=fig.add_subplot(gs[1, 0]))
+    radial_factor_plot(analysis, ax=fig.add_subplot(gs[1, 1]))
+    lift_error_plot(analysis, ax=fig.add_subplot(gs[2, :]))
+    velocity_error_plot(analysis, ax=fig.add_subplot(gs[3, 0]))
+    acceleration_error_plot(analysis, ax=fig.add_subplot(gs[3, 1]))
     fig.suptitle(
         f"{analysis.design.name}: max worst-case ΔS {worst.value:.4g}"
         f" {pretty_unit(analysis.error_unit)} at θ = {worst.theta_deg:.2f}°,"

@@ -1,7 +1,13 @@
-"""Figures of the conjugate measuring fixture (THEORY §4; CW11 Figs. 6-9).
+"""Figures of conjugate cams on the centre-distance fixture (THEORY §4; CW11 §3, Figs. 6-9).
 
-Each function takes the result of :func:`camtol.inspection.fixture.inspect_conjugate`,
-draws on an optional ``ax`` and returns the artists.
+Δf and its parts, the estimated profile errors with the tolerances (and, with an
+indicator record, the estimates at Δf_mea ± u_f), and the acceptance bands with the
+measured Δf and its uncertainty band. Every figure made here names the design and the
+camtol version. Matplotlib is imported only when a figure is drawn.
+
+References
+----------
+.. [CW11] W.-T. Chang, L.-I. Wu, in *Wide Spectra of Quality Control*, InTech, 2011, ch. 20.
 """
 
 from __future__ import annotations
@@ -11,13 +17,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report.plot_style import COLOURS, axes, axis_label, theta_axis
+from camtol.report._figstyle import _legend_outside, _stamp
+from camtol.report.plot_style import COLOURS as _COLOURS
+from camtol.report.plot_style import axes as _axes
+from camtol.report.plot_style import axis_label as _label
+from camtol.report.plot_style import theta_axis as _theta_axis
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from camtol.inspection.acceptance import CamVerdict
     from camtol.inspection.fixture import FixtureInspection
+    from camtol.inspection.record import RecordEstimates
 
 __all__ = [
     "acceptance_plot",
@@ -27,11 +39,14 @@ __all__ = [
 ]
 
 
+# ---------------------------------------------------------------------------------------
 def _fixture_theta(inspection: FixtureInspection) -> FloatArray:
     return np.asarray(np.degrees(inspection.theta_rad))
 
 
-def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = None) -> list[Any]:
+def conjugate_variation_plot(
+    inspection: FixtureInspection, ax: Axes | None = None, *, design_name: str = "conjugate cams"
+) -> list[Any]:
     """Centre-distance variation Δf and its components (THEORY §4.1, CW11 eqs. 14-18).
 
     With a measurement the components come from it (eq. 19) and their sum is Δf_mea; the
@@ -44,13 +59,16 @@ def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = No
         Result of :func:`camtol.inspection.fixture.inspect_conjugate`.
     ax : matplotlib Axes, optional
         Where to draw.
+    design_name : str
+        Named in the title of a figure made here.
 
     Returns
     -------
     list
         The artists drawn.
     """
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     t = _fixture_theta(inspection)
     v = inspection.variation
     arts: list[Any] = []
@@ -62,7 +80,7 @@ def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = No
             (v.df_eta_um, "Δf_η (arm angle)"),
         )
     ):
-        arts += ax.plot(t, y, color=COLOURS[i], label=label)
+        arts += ax.plot(t, y, color=_COLOURS[i], label=label)
     arts += ax.plot(t, v.df_est_um, "k-", lw=1.6, label="Δf_est (sum)")
     if inspection.predicted is not None:  # beside the measurement: eqs. 14-18, known errors
         arts += ax.plot(
@@ -73,10 +91,11 @@ def conjugate_variation_plot(inspection: FixtureInspection, ax: Axes | None = No
             label="Δf_est from the known errors (eqs. 14-18)",
         )
     ax.axhline(0.0, color="0.5", lw=0.6)
-    ax.set_ylabel(axis_label("Δf", "um"))
+    ax.set_ylabel(_label("Δf", "um"))
     ax.set_title("Centre-distance variation and its components")
-    theta_axis(ax)
-    ax.legend(loc="best", fontsize="small")
+    _theta_axis(ax)
+    _legend_outside(ax)
+    _stamp(ax, design_name, made_here)
     return arts
 
 
@@ -86,6 +105,8 @@ def profile_error_estimate_plot(
     *,
     tolerance_a_um: tuple[float, float] | None = None,
     tolerance_b_um: tuple[float, float] | None = None,
+    record: RecordEstimates | None = None,
+    design_name: str = "conjugate cams",
 ) -> list[Any]:
     """Estimated profile errors Δr_A,est, Δr_B,est with tolerance lines (CW11 eqs. 19-21).
 
@@ -96,7 +117,13 @@ def profile_error_estimate_plot(
     ax : matplotlib Axes, optional
         Where to draw.
     tolerance_a_um, tolerance_b_um : tuple of float, optional
-        (lower, upper) radial tolerances drawn as horizontal lines. [µm]
+        (lower, upper) radial tolerances drawn as horizontal lines: cam A dotted, cam B
+        dashed and labelled at opposite ends, so equal tolerances stay distinguishable. [µm]
+    record : RecordEstimates, optional
+        With an indicator record: the upper and lower estimates at Δf_mea ± u_f (THEORY
+        §4.4), shaded between.
+    design_name : str
+        Named in the title of a figure made here.
 
     Returns
     -------
@@ -111,14 +138,27 @@ def profile_error_estimate_plot(
     est = inspection.estimate
     if est is None:
         raise ValueError("the inspection has no measured Δf; there is no estimate to plot")
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     t = _fixture_theta(inspection)
     arts: list[Any] = []
-    arts += ax.plot(t, est.dr_a_est_um, color=COLOURS[0], label="Δr_A,est (master B)")
-    arts += ax.plot(t, est.dr_b_est_um, color=COLOURS[1], label="Δr_B,est (master A)")
-    for tol, colour, cam in (
-        (tolerance_a_um, COLOURS[0], "A"),
-        (tolerance_b_um, COLOURS[1], "B"),
+    if record is not None:
+        for cam, colour, up, lo in (
+            ("A", _COLOURS[0], record.upper.dr_a_est_um, record.lower.dr_a_est_um),
+            ("B", _COLOURS[1], record.upper.dr_b_est_um, record.lower.dr_b_est_um),
+        ):
+            arts.append(
+                ax.fill_between(
+                    t, lo, up, color=colour, alpha=0.18, lw=0, label=f"Δr_{cam},est at Δf_mea ± u_f"
+                )
+            )
+            arts += ax.plot(t, up, color=colour, lw=0.7, ls="--")
+            arts += ax.plot(t, lo, color=colour, lw=0.7, ls="--")
+    arts += ax.plot(t, est.dr_a_est_um, color=_COLOURS[0], label="Δr_A,est (master B)")
+    arts += ax.plot(t, est.dr_b_est_um, color=_COLOURS[1], label="Δr_B,est (master A)")
+    for tol, colour, cam, style, x_text, ha in (
+        (tolerance_a_um, _COLOURS[0], "A", (0, (1, 2)), 1.0, "left"),
+        (tolerance_b_um, _COLOURS[1], "B", (3, (5, 3)), 359.0, "right"),
     ):
         if tol is None:
             continue
@@ -127,20 +167,41 @@ def profile_error_estimate_plot(
                 ax.axhline(
                     value,
                     color=colour,
-                    ls=":",
-                    lw=1.2,
-                    label=f"tolerance of cam {cam}" if j == 0 else None,
+                    ls=style,
+                    lw=1.6 if cam == "A" else 1.1,
+                    gid=f"tolerance_{cam}_{('lower', 'upper')[j]}",
+                    label=f"tolerance of cam {cam}: {tol[0]:g} .. {tol[1]:g} µm"
+                    if j == 0
+                    else None,
                 )
             )
-    ax.set_ylabel(axis_label("Δr", "um"))
+            arts.append(
+                ax.annotate(
+                    f"{cam} {value:+g}",
+                    (x_text, value),
+                    xytext=(0, 3 if j == 1 else -10),
+                    textcoords="offset points",
+                    ha=ha,
+                    color=colour,
+                    fontsize="x-small",
+                )
+            )
+    ax.set_ylabel(_label("Δr", "um"))
     ax.set_title("Estimated radial profile errors")
-    theta_axis(ax)
-    ax.legend(loc="best", fontsize="small")
+    _theta_axis(ax)
+    _legend_outside(ax)
+    _stamp(ax, design_name, made_here)
     return arts
 
 
 def acceptance_plot(
-    inspection: FixtureInspection, ax: Axes | None = None, *, cam: str = "A"
+    inspection: FixtureInspection,
+    ax: Axes | None = None,
+    *,
+    cam: str = "A",
+    record: RecordEstimates | None = None,
+    verdict: CamVerdict | None = None,
+    design_name: str = "conjugate cams",
 ) -> list[Any]:
     """Draw the acceptance band of an inspected cam and the measured Δf (THEORY §4.3).
 
@@ -152,6 +213,14 @@ def acceptance_plot(
         Where to draw.
     cam : {"A", "B"}
         Inspected cam (the other one is the master).
+    record : RecordEstimates, optional
+        With an indicator record: the band Δf_mea ± u_f is shaded around Δf_mea (THEORY
+        §4.4), the measurement uncertainty of the ISO 14253-1 decision rule.
+    verdict : CamVerdict, optional
+        The verdict to show (e.g. under the guard-band rule); the inspection's own
+        verdict (simple acceptance) otherwise.
+    design_name : str
+        Named in the title of a figure made here.
 
     Returns
     -------
@@ -165,7 +234,8 @@ def acceptance_plot(
     """
     if cam not in ("A", "B"):
         raise ValueError(f"cam={cam!r} is not allowed; give 'A' or 'B'")
-    ax = axes(ax)
+    made_here = ax is None
+    ax = _axes(ax)
     t = _fixture_theta(inspection)
     b = inspection.bands
     up, lo = (
@@ -176,8 +246,17 @@ def acceptance_plot(
     arts += ax.plot(t, up, color="#08519c", lw=1.0, label=f"Δf_{cam}(u),est")
     arts += ax.plot(t, lo, color="#08519c", lw=1.0, ls="--", label=f"Δf_{cam}(l),est")
     if inspection.estimate is not None:
-        arts += ax.plot(t, inspection.estimate.df_mea_um, "k-", lw=1.4, label="Δf measured")
-    verdict = inspection.verdicts.get(cam)
+        mea = inspection.estimate.df_mea_um
+        if record is not None:
+            arts.append(
+                ax.fill_between(
+                    t, mea - record.u_f_um, mea + record.u_f_um, color="#fd8d3c", alpha=0.55, lw=0,
+                    label="Δf_mea ± u_f",
+                )
+            )  # fmt: skip
+        arts += ax.plot(t, mea, "k-", lw=1.4, label="Δf measured")
+    if verdict is None:
+        verdict = inspection.verdicts.get(cam)
     if verdict is not None:
         for start, end in verdict.failing_intervals_deg:
             spans = [(start, end)] if end >= start else [(start, 360.0), (0.0, end)]
@@ -187,9 +266,10 @@ def acceptance_plot(
         ax.set_title(f"Acceptance of cam {cam} with master {master}: {state}")
     else:
         ax.set_title(f"Acceptance band of cam {cam} with master {master}")
-    ax.set_ylabel(axis_label("Δf", "um"))
-    theta_axis(ax)
-    ax.legend(loc="best", fontsize="small")
+    ax.set_ylabel(_label("Δf", "um"))
+    _theta_axis(ax)
+    _legend_outside(ax)
+    _stamp(ax, design_name, made_here)
     return arts
 
 
@@ -198,6 +278,10 @@ def fixture_figure(
     *,
     tolerance_a_um: tuple[float, float] | None = None,
     tolerance_b_um: tuple[float, float] | None = None,
+    design_name: str = "conjugate cams",
+    record: RecordEstimates | None = None,
+    verdicts: dict[str, CamVerdict] | None = None,
+    decision_rule: str | None = None,
 ) -> Figure:
     """All fixture panels: Δf components, estimated errors, both acceptance bands (CW11).
 
@@ -207,6 +291,14 @@ def fixture_figure(
         Result of :func:`camtol.inspection.fixture.inspect_conjugate`.
     tolerance_a_um, tolerance_b_um : tuple of float, optional
         Radial tolerances of cams A and B. [µm]
+    design_name : str
+        The design's name, in the figure title with the camtol version.
+    record : RecordEstimates, optional
+        Indicator-record estimates: draws u_f and the upper/lower estimates (THEORY §4.4).
+    verdicts : dict of str to CamVerdict, optional
+        Verdicts to show (e.g. the guard-band rule's); the inspection's otherwise.
+    decision_rule : str, optional
+        The conformance rule in force, stated in the title.
 
     Returns
     -------
@@ -214,16 +306,31 @@ def fixture_figure(
     """
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(13.0, 9.0), layout="constrained")
+    from camtol import __version__
+
+    fig = Figure(figsize=(14.0, 9.5), layout="constrained")
     axs = fig.subplots(2, 2)
     conjugate_variation_plot(inspection, ax=axs[0, 0])
     if inspection.estimate is not None:
         profile_error_estimate_plot(
-            inspection, ax=axs[0, 1], tolerance_a_um=tolerance_a_um, tolerance_b_um=tolerance_b_um
+            inspection,
+            ax=axs[0, 1],
+            tolerance_a_um=tolerance_a_um,
+            tolerance_b_um=tolerance_b_um,
+            record=record,
         )
     else:
         axs[0, 1].set_axis_off()
-    acceptance_plot(inspection, ax=axs[1, 0], cam="A")
-    acceptance_plot(inspection, ax=axs[1, 1], cam="B")
-    fig.suptitle("Conjugate cams on the centre-distance fixture (THEORY §4)")
+    for j, cam in enumerate(("A", "B")):
+        acceptance_plot(
+            inspection,
+            ax=axs[1, j],
+            cam=cam,
+            record=record,
+            verdict=None if verdicts is None else verdicts.get(cam),
+        )
+    rule = f"; decision rule: {decision_rule}" if decision_rule else ""
+    fig.suptitle(
+        f"{design_name}: conjugate cams on the centre-distance fixture{rule} (camtol {__version__})"
+    )
     return fig

@@ -1,0 +1,211 @@
+"""The QA parts of the HTML report: overall verdict, traceability, radius table, print CSS.
+
+* :func:`overall_verdict`: PASS/FAIL first (issue 13 item 13). An inspected part (a
+  measured conjugate pair, THEORY §4.3) passes when every inspected cam passes under the
+  decision rule in force (:mod:`camtol.inspection.decision`, ISO 14253-1); a design
+  without a measurement gets the design checks (pressure-angle limit; undercut is an
+  error before any report is made).
+* :func:`radius_table_html`: the cam drawing's table of
+  :func:`camtol.radius_table.radius_table`, formatted.
+* :data:`TRACEABILITY_FIELDS` and :data:`PRINT_CSS`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from camtol.analysis import Analysis
+    from camtol.inspection.acceptance import CamVerdict
+    from camtol.inspection.decision import DecisionRule
+    from camtol.inspection.fixture import FixtureInspection
+    from camtol.inspection.record import RecordEstimates
+    from camtol.inspection.spec import FixtureSpec
+    from camtol.radius_table import RadiusTable
+
+__all__ = [
+    "PRINT_CSS",
+    "TRACEABILITY_FIELDS",
+    "InspectionReport",
+    "OverallVerdict",
+    "overall_verdict",
+    "radius_table_html",
+]
+
+#: Traceability fields of a QA report: (key, label). Keys as in the design's
+#: ``[traceability]`` table and the ``camtol report`` options (``--part-number`` ...).
+TRACEABILITY_FIELDS: tuple[tuple[str, str], ...] = (
+    ("part_number", "part number"),
+    ("drawing_number", "drawing number"),
+    ("revision", "revision"),
+    ("serial", "serial number"),
+    ("inspector", "inspector"),
+    ("instrument", "instrument"),
+    ("date", "inspection date"),
+)
+
+#: Print rules: A4, no table, figure or banner split over pages, no heading left alone
+#: at the foot of a page; long tables (class ``long``) may break between rows and repeat
+#: their header.
+PRINT_CSS = """
+@page{size:A4;margin:14mm}
+h1,h2,h3{break-after:avoid;page-break-after:avoid}
+table,figure,.banner,ul{break-inside:avoid;page-break-inside:avoid}
+table.long{break-inside:auto;page-break-inside:auto}
+table.long tr{break-inside:avoid;page-break-inside:avoid}
+thead{display:table-header-group}
+.banner{padding:.6em 1em;border-radius:4px;font-size:1.25em;margin:.8em 0}
+.banner.pass{background:#e3f4e8;border:2px solid #11702b}
+.banner.fail{background:#fbe5e8;border:2px solid #b00020}
+.banner.info{background:#eef2f7;border:2px solid #56708f;color:#1a1a1a;font-weight:600}
+table.long td{padding:.05em .4em;font-size:.85em}
+@media print{body{max-width:none;margin:0;padding:0;font-size:10pt}
+.figure svg{max-height:23cm;width:auto;max-width:100%;height:auto}
+.appendix{break-before:page;page-break-before:always}}
+"""
+
+
+@dataclass(frozen=True)
+class InspectionReport:
+    """A finished fixture inspection to report (THEORY §4): results passed in, not run.
+
+    Attributes
+    ----------
+    inspection : FixtureInspection
+        The inspection; its verdicts are those of ``decision``.
+    spec : FixtureSpec
+        The specification it was run with.
+    record : RecordEstimates or None
+        With an indicator record: u_f and the estimates at Δf_mea ± u_f.
+    decision : {"simple", "guard-band"}
+        The decision rule the verdicts were taken with (ISO 14253-1).
+    """
+
+    inspection: FixtureInspection
+    spec: FixtureSpec
+    record: RecordEstimates | None = None
+    decision: DecisionRule = "simple"
+
+
+@dataclass(frozen=True)
+class OverallVerdict:
+    """The report's headline.
+
+    Attributes
+    ----------
+    status : {"PASS", "FAIL", "NOT INSPECTED"}
+        PASS/FAIL of the inspected part, or of the design checks without a measurement
+        (then ``inspected`` is False).
+    inspected : bool
+        True when a measured part was judged (``camtol report`` exits 1 on its FAIL).
+    headline : str
+        One line: the status and why.
+    reasons : tuple of str
+        The individual findings.
+    """
+
+    status: str
+    inspected: bool
+    headline: str
+    reasons: tuple[str, ...]
+
+    @property
+    def passed(self) -> bool:
+        """True unless the status is FAIL."""
+        return self.status != "FAIL"
+
+
+def _where(v: CamVerdict, shown: int = 4) -> str:
+    """Failing stretches (intervals joined across gaps < 1°), at most ``shown`` of them."""
+    from camtol.inspection.acceptance import merge_intervals
+
+    spans = merge_intervals(v.failing_intervals_deg, 1.0)
+    text = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in spans[:shown])
+    if len(spans) > shown:
+        text += f" and {len(spans) - shown} more stretches"
+    return text
+
+
+def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVerdict:
+    """Decide the report's headline from the analysis and the inspection (if any).
+
+    Parameters
+    ----------
+    a : Analysis
+        The design's analysis.
+    fixture : InspectionReport or None
+        The fixture inspection of a measured conjugate pair.
+
+    Returns
+    -------
+    OverallVerdict
+        Inspected part: PASS when every inspected cam passes under the decision rule.
+        Otherwise the design checks: FAIL when |φ| exceeds the design's pressure-angle
+        limit, else PASS.
+    """
+    name = a.design.name
+    if fixture is not None and fixture.inspection.verdicts:
+        from camtol.inspection.decision import decision_rule_text
+
+        reasons = []
+        for cam, v in sorted(fixture.inspection.verdicts.items()):
+            if v.passed:
+                reasons.append(f"cam {cam} passes (smallest margin {v.min_margin_um:.3g} µm)")
+            else:
+                reasons.append(
+                    f"cam {cam} FAILS at θ = {_where(v)} (margin {v.min_margin_um:.3g} µm)"
+                )
+        ok = all(v.passed for v in fixture.inspection.verdicts.values())
+        rule = decision_rule_text(fixture.decision).split(":")[0]
+        reasons.append(f"decision rule: {rule}")
+        status = "PASS" if ok else "FAIL"
+        return OverallVerdict(
+            status, True, f"{status}: {name}: " + "; ".join(reasons), tuple(reasons)
+        )
+    limit = a.design.pressure_angle_limit_deg
+    pa = float(np.degrees(np.max(np.abs(a.kinematics.pressure_angle_rad))))
+    reasons = ["no undercut or cusp"]
+    ok = True
+    if limit is not None:
+        ok = pa <= limit
+        reasons.append(f"largest |φ| {pa:.2f}° {'within' if ok else 'BEYOND'} the limit {limit:g}°")
+    reasons.append(f"output accuracy {a.accuracy.describe()}")
+    status = "PASS" if ok else "FAIL"
+    return OverallVerdict(
+        status,
+        False,
+        f"design check {status}: {name}: " + "; ".join(reasons) + " (no measured part)",
+        tuple(reasons),
+    )
+
+
+def radius_table_html(table: RadiusTable, escape: Any) -> str:
+    """Render the radius table as a long HTML table (breaks between rows when printed).
+
+    Parameters
+    ----------
+    table : RadiusTable
+        From :func:`camtol.radius_table.radius_table`.
+    escape : callable
+        HTML escaping of the header texts.
+
+    Returns
+    -------
+    str
+        The ``<table class="long radius-table">`` element.
+    """
+    heads = ["polar angle [°]"] + [
+        k.removesuffix("_mm").replace("_pitch", " pitch").replace("_", " ") + " [mm]"
+        for k in table.columns
+    ]
+    out = ['<table class="long radius-table"><thead><tr>']
+    out += [f"<th>{escape(h)}</th>" for h in heads]
+    out.append("</tr></thead><tbody>")
+    for i, p in enumerate(table.polar_deg):
+        cells = [f"{p:g}"] + [f"{v[i]:.4f}" for v in table.columns.values()]
+        out.append("<tr>" + "".join(f'<td class="num">{c}</td>' for c in cells) + "</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
