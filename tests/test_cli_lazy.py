@@ -13,10 +13,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from click.utils import make_default_short_help
 
 import camtol
 from camtol.cli import LAZY_COMMANDS, cli, main
+from camtol.cli_commands import short_help as make_default_short_help
 
 SRC = str(Path(camtol.__file__).resolve().parent.parent)
 HEAVY = ["numpy", "scipy", "matplotlib", "pydantic", "rich", "camtol.analysis", "camtol.config"]

@@ -19,9 +19,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import click
-from click.utils import make_default_short_help
 
 from camtol import __version__
+from camtol.cli_commands import short_help
 from camtol.exceptions import CamtolError
 
 __all__ = [
@@ -346,7 +346,7 @@ class LazyGroup(click.Group):
             cmd = self.commands.get(name)
             if cmd is None:
                 limit = formatter.width - 6 - len(name)
-                rows.append((name, make_default_short_help(self.lazy_commands[name][2], limit)))
+                rows.append((name, short_help(self.lazy_commands[name][2], limit)))
             elif not cmd.hidden:
                 rows.append((name, cmd.get_short_help_str(formatter.width - 6 - len(name))))
         if rows:

@@ -6,7 +6,7 @@ without importing the module; a test checks it equals the command's own first li
 
 from __future__ import annotations
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "short_help"]
 
 COMMANDS: dict[str, tuple[str, str, str]] = {
     "conjugate": (
@@ -76,3 +76,49 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "Digital twins: simulated measurement files with their truth beside them.",
     ),
 }
+
+
+def short_help(text: str, limit: int = 45) -> str:
+    """Shorten a command's help to one line the way click does for ``--help`` listings.
+
+    click deprecated its own helper (``click.utils.make_default_short_help``, to go in
+    Click 9), so the lazy listing keeps this copy of the rule: the first paragraph, cut
+    at the first sentence end or with ``...`` at the last word that fits.
+
+    Parameters
+    ----------
+    text : str
+        The command's help text.
+    limit : int
+        Largest length of the result. [characters]
+
+    Returns
+    -------
+    str
+        The short help.
+    """
+    end = text.find("\n\n")
+    words = (text if end == -1 else text[:end]).split()
+    if words and words[0] == "\b":
+        words = words[1:]
+    if not words:
+        return ""
+    total, last = 0, len(words) - 1
+    i = 0
+    for i, word in enumerate(words):
+        total += len(word) + (i > 0)
+        if total > limit:
+            break
+        if word[-1] == ".":
+            return " ".join(words[: i + 1])
+        if total == limit and i != last:
+            break
+    else:
+        return " ".join(words)
+    total += len("...")
+    while i > 0:
+        total -= len(words[i]) + (i > 0)
+        if total <= limit:
+            break
+        i -= 1
+    return " ".join(words[:i]) + "..."
