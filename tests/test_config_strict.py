@@ -7,10 +7,10 @@ shorten the value and stay within a few hundred characters.
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 import pytest
-import tomllib
 
 from camtol.config import (
     MESSAGE_CHARS,
@@ -21,6 +21,11 @@ from camtol.config import (
 )
 from camtol.exceptions import ConfigError
 from camtol.mechanisms import MECHANISMS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
 
 
 def _data(name: str) -> dict[str, Any]:

@@ -14,7 +14,6 @@ from typing import Any
 
 import numpy as np
 import pytest
-import tomllib
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -22,6 +21,11 @@ from camtol.config import design_from_mapping, dump_design, example_names, examp
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.motion import MOTION_LAWS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
 
 
 def _roundtrip(design: CamDesign) -> CamDesign:

@@ -10,6 +10,7 @@ the design-file schema, ``analyze``, ``verify``, the profile export, the cam dra
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,7 +18,6 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
-import tomllib
 
 from camtol.analysis import analyze
 from camtol.cli import main
@@ -30,6 +30,11 @@ from camtol.mechanisms.roller_translating import RollerTranslating
 from camtol.mechanisms.spec import FOLLOWER_TYPES, Parameter, length, register_follower
 from camtol.profile import profile_points
 from camtol.verify import verify
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
 
 
 @dataclass(frozen=True)

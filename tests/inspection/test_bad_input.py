@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-import tomllib
 
 from camtol.cli import main
 from camtol.config import design_from_mapping, example_text, load_design, load_example
@@ -23,6 +23,11 @@ from camtol.inspection.error_functions import parse_error_function
 from camtol.inspection.formula import MAX_FORMULA_CHARS, Formula
 from camtol.inspection.spec import fixture_spec_from_mapping
 from camtol.inspection.units import MAX_ERROR_UM, parse_length_um
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
 
 
 def _run(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
