@@ -135,7 +135,9 @@ def _follower_model(cls: type[Mechanism]) -> type[BaseModel]:
         desc = f"{p.description}; {p.describe_range()}"
         ann: Any = Annotated[float, Field(description=desc, **bounds, **_FINITE)]
         if p.required:
-            fields[p.name] = (ann, ...)
+            # Field() without a default marks it required; a bare ``...`` beside an
+            # Annotated Field was taken as the default itself by pydantic 2.5.
+            fields[p.name] = (ann, Field())
         elif p.default is None:
             fields[p.name] = (ann | None, None)
         else:
