@@ -7,7 +7,6 @@ bad input.
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -29,7 +28,7 @@ from camtol.cli_inspection_options import decision_option
 from camtol.cli_records import check_store_options, store_fixture_records, store_options
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.inspection.decision import DecisionRule
+    pass
 
 __all__ = ["conjugate"]
 
@@ -170,13 +169,6 @@ def conjugate(
     """
 
     def body() -> int:
-        if record_path is not None and df_mea is not None:
-            fail(
-                f"--record={record_path!r} and --df-mea={df_mea!r} are mutually exclusive;"
-                " give the measured Δf one way"
-            )
-        if drop_bad_revolutions and record_path is None:
-            fail("--drop-bad-revolutions applies to --record; give the record too")
         from camtol.grid import check_step
         from camtol.inspection.fixture import MAX_FIXTURE_POINTS
 
@@ -188,16 +180,18 @@ def conjugate(
                 "--df-mea": _file_arg(df_mea),
                 "--master-a": _file_arg(master_a),
                 "--master-b": _file_arg(master_b),
+                "--cmm-a": cmm_a,
+                "--cmm-b": cmm_b,
             },
-            {"--curves": curves, "--plot": plot},
+            {"--curves": curves, "--plot": plot, "--cmm-plot": cmm_plot},
         )
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         check_output_path(cmm_plot, "--cmm-plot", [".png", ".svg", ".pdf"])
         if cmm_plot and cmm_a is None:
             fail("--cmm-plot needs the CMM scans: give --cmm-a and --cmm-b")
-        from camtol.inspection.error_functions import ErrorFunction, parse_error_function
-        from camtol.inspection.fixture import inspect_conjugate
+        from camtol.cli_inspection_options import run_fixture
+        from camtol.inspection.decision import decision_rule_text
         from camtol.mechanisms.conjugate import ConjugatePair
         from camtol.report import conjugate as rep
 
@@ -208,69 +202,27 @@ def conjugate(
                 f"follower.type={d.mechanism.kind!r}: `camtol conjugate` needs a conjugate"
                 " design (follower.type = 'conjugate')"
             )
-        spec = d.inspection
-        if spec is None:
-            fail(
-                "the design has no [inspection] table; give at least"
-                " inspection.tolerance_a_um = [lower, upper] (see"
-                " `camtol examples show cw11-conjugate`)"
-            )
-        assert spec is not None  # fail() does not return
-
-        def option(value: str | None, name: str, default: ErrorFunction) -> ErrorFunction:
-            return default if value is None else parse_error_function(value, field=name)
-
-        spec = dataclasses.replace(
-            spec,
-            df_mea=(
-                spec.df_mea if df_mea is None else parse_error_function(df_mea, field="--df-mea")
-            ),
-            master_a=option(master_a, "--master-a", spec.master_a),
-            master_b=option(master_b, "--master-b", spec.master_b),
+        run = run_fixture(
+            d,
+            df_mea=df_mea,
+            record_path=record_path,
+            drop_bad_revolutions=drop_bad_revolutions,
+            master_a=master_a,
+            master_b=master_b,
+            decision=decision,
+            step_deg=step_deg,
+            command="conjugate",
+            cmm_a=cmm_a,
+            cmm_b=cmm_b,
+            cmm_stylus_mm=cmm_stylus_mm,
+            cmm_datum=cmm_datum,
         )
-        estimates = None
-        if record_path is not None:
-            from camtol.inspection.record import (
-                process_record,
-                read_indicator_csv,
-                to_error_function,
-            )
-
-            processed = process_record(
-                read_indicator_csv(record_path), drop_bad_revolutions=drop_bad_revolutions
-            )
-            spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
-        comparison = None
-        if (cmm_a is None) != (cmm_b is None):
-            fail("--cmm-a and --cmm-b go together: give the scans of both cams")
-        if cmm_a is not None and cmm_b is not None:
-            from camtol.cli_inspect import cmm_pair_masters
-
-            spec, comparison = cmm_pair_masters(
-                d,
-                spec,
-                cmm_a,
-                cmm_b,
-                stylus_radius_mm=cmm_stylus_mm,
-                datum_text=cmm_datum,
-                master_given=(master_a is not None, master_b is not None),
-                step_deg=step_deg,
-            )
-        res = inspect_conjugate(d, spec, step_deg=step_deg)
-        if record_path is not None:
-            from camtol.inspection.record import record_estimates
-
-            estimates = record_estimates(d, spec, processed, res.theta_rad)
-        if decision == "guard-band" and estimates is None:
-            fail(
-                "--decision=guard-band needs the measurement uncertainty u_f of an indicator"
-                " record; give --record FILE.csv, or use --decision simple"
-            )
-        from camtol.inspection.decision import decide, decision_rule_text
-
-        rule: DecisionRule = "guard-band" if decision == "guard-band" else "simple"
-        res = dataclasses.replace(
-            res, verdicts=decide(res, rule, None if estimates is None else estimates.u_f_um)
+        res, spec, estimates, rule, comparison = (
+            run.inspection,
+            run.spec,
+            run.record,
+            run.decision,
+            run.comparison,
         )
         stored = []
         if store is not None:

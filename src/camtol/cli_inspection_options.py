@@ -145,12 +145,15 @@ class FixtureRun:
         Estimates at Δf_mea ± u_f, with ``--record``.
     decision : {"simple", "guard-band"}
         The decision rule in force.
+    comparison : CmmFixtureComparison or None
+        The fixture predicted from the two CMM scans, with ``--cmm-a/--cmm-b``.
     """
 
     inspection: FixtureInspection
     spec: FixtureSpec
     record: RecordEstimates | None
     decision: DecisionRule
+    comparison: Any = None
 
     @property
     def verdicts(self) -> dict[str, CamVerdict]:
@@ -258,6 +261,7 @@ def run_fixture(
     )
     estimates = None
     processed = None
+    comparison = None
     if record_path is not None:
         from camtol.inspection.record import process_record, read_indicator_csv, to_error_function
 
@@ -270,7 +274,7 @@ def run_fixture(
     if cmm_a is not None and cmm_b is not None:
         from camtol.cli_inspect import cmm_pair_masters
 
-        spec, _ = cmm_pair_masters(
+        spec, comparison = cmm_pair_masters(
             d,
             spec,
             cmm_a,
@@ -288,4 +292,4 @@ def run_fixture(
     rule: DecisionRule = "guard-band" if decision == "guard-band" else "simple"
     verdicts = decide(res, rule, None if estimates is None else estimates.u_f_um)
     res = dataclasses.replace(res, verdicts=verdicts)
-    return FixtureRun(res, spec, estimates, rule)
+    return FixtureRun(res, spec, estimates, rule, comparison)

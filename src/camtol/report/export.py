@@ -1,21 +1,8 @@
-r"""Profile exports for CAD/CAM: CSV, DXF and SVG of the analytic cam profile (THEORY §2).
+"""Profile exports for CAD/CAM: CSV, DXF and SVG of the analytic cam profile (THEORY §2).
 
-The sampling itself is core (:mod:`camtol.profile`); this module writes its result.
-
-The profile (and, for roller followers, the pitch curve; for conjugate designs both cams;
-on request the cutter-centre path) is sampled *adaptively*: the vertices lie exactly on
-the analytic curve and are spaced by its radius of curvature so that every chord deviates
-from the curve by less than a tolerance (0.1 µm by default). The spacing comes from the
-sagitta of a circular arc,
-
-.. math:: h = ρ\left(1 - \cos\frac{Δs}{2ρ}\right) \approx \frac{Δs^2}{8ρ},
-
-and is then *verified*: the analytic curve is evaluated at the quarter points of every
-chord, and any chord whose deviation exceeds the tolerance is bisected until none does.
-
-Coordinates are in the cam frame X-Y of THEORY §0 (origin at the cam pivot O2, θ measured
-counterclockwise from the cam's reference radial; for oscillating followers from the line
-of centres), in millimetres.
+The adaptive sampling within a chordal tolerance, with its verification, is core
+(:mod:`camtol.profile`, which documents the method and the cam frame); this module only
+writes its result, coordinates in mm in the cam frame.
 """
 
 from __future__ import annotations
