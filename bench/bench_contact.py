@@ -106,9 +106,10 @@ def main() -> list[Figure]:
         print(f"  {name}: exact motion on the analytic profile, 3600 angles: {t * 1e3:.1f} ms")
     # Informational: a roller needs the true distance (no hull); a CMM-sized measured cam.
     dc = load_example("cw11-conjugate")
-    cam = AnalyticShape(dc.mechanism.cam_a, dc.program, samples=3600).polygon  # type: ignore[attr-defined]
+    cam_a = dc.cams()[0].mechanism  # a conjugate pair is two cams: follow cam A
+    cam = AnalyticShape(cam_a, dc.program, samples=3600).polygon
     th = np.linspace(0.0, 2.0 * math.pi, 3600, endpoint=False)
-    t_r, _ = best_of(lambda: follow(cam, dc.mechanism, th), 1)
+    t_r, _ = best_of(lambda: follow(cam, cam_a, th), 1)
     print(f"  oscillating roller on a 3600-point polygon, 3600 angles: {t_r * 1e3:.0f} ms")
     # Does a compiled inner loop earn its place? Time a numba brute force of the same max.
     try:
