@@ -23,7 +23,7 @@ import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 
@@ -325,11 +325,12 @@ def _allocate(
             return 1.0 - failures / samples
 
         order = np.argsort(cost, kind="stable")
-        failed: list[np.ndarray[Any, np.dtype[np.int64]]] = []
+        # dominated[c]: combination c is at least as coarse as one that failed (one
+        # vectorised pass per failure, not a Python loop over the failures per candidate).
+        dominated = np.zeros(combos.shape[0], dtype=bool)
         choice = -1
-        for c in order:
-            idx = combos[c]
-            if any(np.all(idx >= f) for f in failed):
+        for c in order.tolist():
+            if dominated[c]:
                 continue
             if bounded and wc_ok[c]:
                 choice = int(c)
@@ -338,7 +339,7 @@ def _allocate(
             if yield_of(t_comb[c]) >= target_yield:
                 choice = int(c)
                 break
-            failed.append(idx)
+            dominated |= np.all(combos >= combos[c], axis=1)
         if choice < 0:
             y = yield_of(finest[0])
             _no_grade(
