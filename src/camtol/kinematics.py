@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -94,8 +95,28 @@ def analysis_grid(
     Returns
     -------
     theta_rad, left_limit
-        The grid and the mask of left-limit rows.
+        The grid and the mask of left-limit rows (read-only: the same grid is shared by
+        every call with the same arguments).
     """
+    b = np.asarray(boundaries_rad, dtype=float).ravel()
+    return _grid(float(step_deg), tuple(b.tolist()))
+
+
+#: A few grids (a fine one is 3 MB), reused by the analysis and its further cams.
+@lru_cache(maxsize=8)
+def _grid(
+    step_deg: float, boundaries_rad: tuple[float, ...]
+) -> tuple[FloatArray, NDArray[np.bool_]]:
+    """Return the grid of :func:`analysis_grid`, built once per (step, boundaries)."""
+    theta, left = _build_grid(step_deg, boundaries_rad)
+    theta.setflags(write=False)
+    left.setflags(write=False)
+    return theta, left
+
+
+def _build_grid(
+    step_deg: float, boundaries_rad: tuple[float, ...]
+) -> tuple[FloatArray, NDArray[np.bool_]]:
     n = int(round(360.0 / step_deg))
     theta = np.linspace(0.0, 2.0 * math.pi, n + 1)
     b = np.mod(np.asarray(boundaries_rad, dtype=float), 2.0 * math.pi)

@@ -295,13 +295,30 @@ class SegmentProgram(MotionProgram):
         idx = np.searchsorted(self._starts, t, side="right") - 1
         if left_limit is not None:
             left = np.broadcast_to(np.asarray(left_limit, dtype=bool), t.shape)
-            idx_left = np.searchsorted(self._starts, t, side="left") - 1
-            idx = np.where(left, idx_left, idx)
-        return np.mod(idx, len(self.segments))
+            if idx.ndim == 0:
+                if left:
+                    idx = np.searchsorted(self._starts, t, side="left") - 1
+            else:  # the few rows that take a left limit (segment boundaries)
+                rows = np.flatnonzero(left)
+                idx.flat[rows] = np.searchsorted(self._starts, t.flat[rows], side="left") - 1
+        if np.ndim(idx) == 0:
+            return np.asarray(int(idx) % len(self.segments), dtype=np.intp)
+        idx[idx < 0] += len(self.segments)  # a left limit at the first start: the last segment
+        return idx
 
     def _wrap(self, theta_rad: ArrayLike) -> FloatArray:
         start = self._starts[0]
-        t = np.mod(np.asarray(theta_rad, dtype=float) - start, TWO_PI) + start
+        theta = np.asarray(theta_rad, dtype=float)
+        if start == 0.0 and theta.ndim == 1 and theta.size > 64:
+            # A grid of one revolution needs only its few outliers (e.g. 360° itself)
+            # wrapped; np.mod leaves 0 <= θ < 2π unchanged, so the values are the same.
+            out = theta + 0.0  # a copy; -0.0 + 0.0 is 0.0, as np.mod makes it
+            outside = np.flatnonzero((theta < 0.0) | (theta >= TWO_PI))
+            if outside.size > theta.size // 8:
+                return np.asarray(np.mod(theta, TWO_PI), dtype=float)
+            out[outside] = np.mod(theta[outside], TWO_PI)
+            return out
+        t = np.mod(theta - start, TWO_PI) + start
         return np.asarray(t, dtype=float)
 
     def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
@@ -323,7 +340,9 @@ class SegmentProgram(MotionProgram):
         theta = np.asarray(theta_rad, dtype=float)
         t = np.atleast_1d(self._wrap(theta))
         idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
-        out = [np.zeros_like(t) for _ in range(4)]
+        # One block for S, V, A, J: a large allocation gets huge pages (fewer page faults).
+        # Every row belongs to a segment, and every segment writes all four of its rows.
+        out = np.empty((4, *t.shape))
         for i, seg in enumerate(self.segments):
             rows = np.flatnonzero(idx == i)
             if rows.size == 0:
@@ -332,19 +351,28 @@ class SegmentProgram(MotionProgram):
             m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
+                out[1:, m] = 0.0
                 continue
             beta = seg.duration_rad
             # A left limit at the segment's start wraps to +2π; map it back into the segment.
             tm = t[m]
-            tm = np.where(tm < seg.start_rad - 1e-12, tm + TWO_PI, tm)
-            tm = np.where(tm > seg.end_rad + 1e-12, tm - TWO_PI, tm)
+            if tm.min() < seg.start_rad - 1e-12 or tm.max() > seg.end_rad + 1e-12:
+                tm = np.where(tm < seg.start_rad - 1e-12, tm + TWO_PI, tm)
+                tm = np.where(tm > seg.end_rad + 1e-12, tm - TWO_PI, tm)
             x = (tm - seg.start_rad) / beta
             s, v, a, j = normalized_law(seg.law)(x)
             h = seg.signed_height
-            out[0][m] = self._levels[i] + h * s
-            out[1][m] = h * v / beta
-            out[2][m] = h * a / beta**2
-            out[3][m] = h * j / beta**3
+            if isinstance(m, slice):  # straight into the block, no temporaries
+                np.multiply(s, h, out=out[0, m])
+                out[0, m] += self._levels[i]
+                for row, d, scale in ((1, v, beta), (2, a, beta**2), (3, j, beta**3)):
+                    np.multiply(d, h, out=out[row, m])  # h·d/β^k, rounded as below
+                    out[row, m] /= scale
+            else:
+                out[0][m] = self._levels[i] + h * s
+                out[1][m] = h * v / beta
+                out[2][m] = h * a / beta**2
+                out[3][m] = h * j / beta**3
         shape = theta.shape
         return MotionState(*(o.reshape(shape) for o in out))
 
