@@ -24,7 +24,14 @@ if TYPE_CHECKING:
     from camtol.inspection.lots import LotStatistics
     from camtol.inspection.store import InspectionRecord, InspectionStore
 
-__all__ = ["records", "store_options", "store_fixture_records"]
+__all__ = [
+    "check_store_options",
+    "cmm_record_curve",
+    "records",
+    "store_cmm_record",
+    "store_fixture_records",
+    "store_options",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -328,6 +335,94 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
     return location
 
 
+def _design_text(design_path: str | None, example: str | None) -> str:
+    """The TOML text the command read: the built-in example's or the design file's."""
+    if example is not None:
+        from camtol.examples import example_text
+
+        return example_text(example)
+    return Path(str(design_path)).read_text(encoding="utf-8")
+
+
+def cmm_record_curve(insp: Any, n_points: int) -> Any:
+    """The record curve of a CMM inspection: Δr of the points kept on θ_j = 360° j / n.
+
+    Parameters
+    ----------
+    insp : CmmInspection
+        The inspection (outliers are left out).
+    n_points : int
+        Points of the grid (360 / --step).
+
+    Returns
+    -------
+    ndarray
+        Δr on the grid [µm]; refused (:class:`~camtol.exceptions.RecordError`, exit 2) when
+        the scan has a gap wider than :data:`~camtol.inspection.lots.MAX_GAP_STEPS` steps.
+    """
+    from camtol.inspection.lots import scan_on_grid
+
+    kept = insp.kept
+    return scan_on_grid(insp.theta_deg[kept], insp.dr_um[kept], n_points, source=insp.source)
+
+
+def store_cmm_record(
+    location: str,
+    opts: dict[str, str | None],
+    design: Any,
+    design_path: str | None,
+    example: str | None,
+    *,
+    cam: str,
+    dr_um: Any,
+    verdict: str,
+    tolerance_um: tuple[float, float],
+    max_abs_ds_um: float | None,
+) -> int:
+    """Record one CMM-inspected cam (``camtol inspect --store``) in one transaction.
+
+    Parameters
+    ----------
+    location : str
+        The store (path or URL).
+    opts : dict
+        The options of :func:`store_options`.
+    design : CamDesign
+        The design the scan was checked against.
+    design_path, example : str or None
+        Where the design came from (its TOML text is hashed and stored).
+    cam : {"A", "B", ""}
+        The cam of a conjugate pair, "" for a single cam.
+    dr_um : ndarray
+        Δr on θ_j = 360° j / n (:func:`cmm_record_curve`). [µm]
+    verdict : {"pass", "fail"}
+        The inspection's overall verdict (profile tolerance and motion spec).
+    tolerance_um : tuple of float
+        The profile tolerance of that verdict. [µm]
+    max_abs_ds_um : float or None
+        Max |ΔS| of the measured follower motion (µm, or µrad for a swing).
+
+    Returns
+    -------
+    int
+        The record's id.
+    """
+    from camtol.inspection.store import record_inspection
+
+    return record_inspection(
+        location,
+        design,
+        method="cmm",
+        cam=cam,
+        dr_um=dr_um,
+        verdict=verdict,
+        tolerance_um=tolerance_um,
+        traceability=_traceability(opts),
+        design_text=_design_text(design_path, example),
+        max_abs_ds_um=max_abs_ds_um,
+    )
+
+
 def store_fixture_records(
     location: str,
     opts: dict[str, str | None],
@@ -366,12 +461,7 @@ def store_fixture_records(
             "--store records an inspection: give the measured Δf (--record, --df-mea or"
             " inspection.df_mea_um)"
         )
-    if example is not None:
-        from camtol.examples import example_text
-
-        text = example_text(example)
-    else:
-        text = Path(str(design_path)).read_text(encoding="utf-8")
+    text = _design_text(design_path, example)
     name, digest = design_identity(design, text)
     trace = _traceability(opts)
     recs = [
