@@ -2,7 +2,8 @@
 
 Each command with a ``--json`` flag needs at least one entry here and a schema file
 ``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory and
-``{scan}`` a simulated CMM scan of cam B of cw11-experiment.
+``{scan}`` a simulated CMM scan of cam B of cw11-experiment; ``{store}`` an inspection
+store holding two CMM records of that scan and a fixture record of cams A and B.
 """
 
 from __future__ import annotations
@@ -70,6 +71,17 @@ INVOCATIONS: dict[str, list[list[str]]] = {
             "--json",
         ]
     ],
+    "records list": [
+        ["records", "list", "--store", "{store}", "--json"],
+        ["records", "list", "--store", "{store}", "--method", "cmm", "--json"],
+    ],
+    "records show": [["records", "show", "1", "--store", "{store}", "--json"]],
+    "records stats": [
+        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--cam", "B",
+         "--json"],
+        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--cam", "A",
+         "--json"],
+    ],  # fmt: skip
 }
 
 
@@ -86,4 +98,16 @@ def prepare(tmp: str) -> dict[str, str]:
     scan = Path(tmp) / "b.csv"
     args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(scan), "--cam", "B"]
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
-    return {"tmp": tmp, "scan": str(scan)}
+    store = Path(tmp) / "records.db"
+    try:
+        import sqlalchemy  # noqa: F401
+    except ImportError:  # the records invocations are skipped without camtol[store]
+        return {"tmp": tmp, "scan": str(scan), "store": str(store)}
+    for serial in ("1", "2"):  # two CMM records of cam B and a fixture record of A and B
+        insp = ["inspect", "-e", "cw11-experiment", "--points", str(scan), "--cam", "B"]
+        opts = ["--stylus-radius-mm", "1", "--store", str(store), "--serial", serial, "-q"]
+        assert main([*insp, *opts, "--lot", "L1"]) in (0, 1)
+    fixture = ["conjugate", "-e", "cw11-experiment", "--df-mea", "20", "--step", "1", "-q"]
+    fixture += ["--store", str(store)]
+    assert main([*fixture, "--serial", "3", "--lot", "L1"]) in (0, 1)
+    return {"tmp": tmp, "scan": str(scan), "store": str(store)}

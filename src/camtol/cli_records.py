@@ -69,12 +69,24 @@ def _cam_filter(cam: str | None) -> str | None:
     return None if cam is None else ("" if cam == "single" else cam)
 
 
+_METHOD_OPTION = click.option(
+    "--method",
+    type=click.Choice(["cmm", "conjugate-fixture"]),
+    help="Only records of this inspection method (default: every method).",
+)
+
+
+def _of_method(recs: list[InspectionRecord], method: str | None) -> list[InspectionRecord]:
+    return recs if method is None else [r for r in recs if r.method == method]
+
+
 @click.group()
 def records() -> None:
     """Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).
 
-    Records are written by `camtol conjugate --store DB` (one per inspected cam). DB is a
-    SQLite file, sqlite:///FILE.db or postgresql+psycopg://user@host:port/database.
+    Records are written by `camtol conjugate --store DB` (cams A and B of a fixture
+    inspection) and `camtol inspect --store DB` (a CMM scan), one per inspected cam. DB is
+    a SQLite file, sqlite:///FILE.db or postgresql+psycopg://user@host:port/database.
     """
 
 
@@ -85,17 +97,23 @@ def records() -> None:
 @click.option(
     "--cam", type=click.Choice(["A", "B", "single"]), help="Only this cam (single: not a pair)."
 )
+@_METHOD_OPTION
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON.")
 def list_records(
-    store: str, design: str | None, lot: str | None, cam: str | None, as_json: bool
+    store: str,
+    design: str | None,
+    lot: str | None,
+    cam: str | None,
+    method: str | None,
+    as_json: bool,
 ) -> None:
     """List inspection records, oldest first: id, time, design, cam, part, verdict, figures."""
 
     def body() -> int:
         with _open_existing(store) as s:
-            recs = s.records(design=design, lot=lot, cam=_cam_filter(cam))
+            recs = _of_method(s.records(design=design, lot=lot, cam=_cam_filter(cam)), method)
         if as_json:
-            echo_json({"records": [r.summary() for r in recs]})
+            echo_json({"records": [r.summary() for r in recs]}, command="records list")
             return EXIT_OK
         click.echo(
             f"{'id':>5} {'inspected_at (UTC)':19} {'design':18} {'cam':3} {'part':12}"
@@ -128,7 +146,10 @@ def show_record(record_id: int, store: str, as_json: bool, curves: str | None) -
         if curves:
             _write_csv(curves, ["theta_deg", "dr_um"], [rec.theta_deg, rec.dr_um])
         if as_json:
-            echo_json(rec.summary())
+            data = rec.summary()
+            # the envelope's camtol_version is this camtol's; the record's is kept beside it
+            data["record_camtol_version"] = rec.camtol_version
+            echo_json(data, command="records show")
         else:
             for key, value in rec.summary().items():
                 click.echo(f"{key:16} {'' if value is None else value}")
@@ -158,9 +179,11 @@ def _stats_json(
         "lot": lot,
         "cam": recs[0].cam,
         "design_hashes": sorted({r.design_hash for r in recs}),
+        "methods": sorted({r.method for r in recs}),
         "record_ids": [r.id for r in recs],
         "n_parts": st.n_parts,
         "n_points": int(st.theta_deg.size),
+        "record_n_points": sorted({r.n_points for r in recs}),
         "tolerance_um": list(st.tolerance_um),
         "mean_of_max_um": float(st.part_max_um.mean()),
         "mean_of_min_um": float(st.part_min_um.mean()),
@@ -197,6 +220,7 @@ def _stats_json(
     show_default=True,
     help="Confidence level of the failing fraction's interval (Clopper-Pearson).",
 )
+@_METHOD_OPTION
 @click.option("--json", "as_json", is_flag=True, help="Print the statistics as JSON.")
 @click.option(
     "--curves",
@@ -208,6 +232,7 @@ def stats(
     design: str,
     lot: str | None,
     cam: str | None,
+    method: str | None,
     confidence: float,
     as_json: bool,
     curves: str | None,
@@ -222,7 +247,9 @@ def stats(
 
         with _open_existing(store) as s:
             recs = s.records(design=design, lot=lot, cam=_cam_filter(cam), with_curves=True)
+        recs = _of_method(recs, method)
         where = f"--design={design!r}" + ("" if lot is None else f" --lot={lot!r}")
+        where += "" if method is None else f" --method={method}"
         if not recs:
             fail(f"{where}: no records match in the store (see `camtol records list`)")
         cams = sorted({r.cam or "single" for r in recs})
@@ -250,7 +277,7 @@ def stats(
             )
         out = _stats_json(st, recs, basis, design, lot)
         if as_json:
-            echo_json(out)
+            echo_json(out, command="records stats")
         else:
             for key, value in out.items():
                 if key != "record_ids":
