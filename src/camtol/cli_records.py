@@ -355,6 +355,15 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
             flag = "--" + given[0].removeprefix("store_").replace("_", "-")
             fail(f"{flag} describes the part for the store: give --store DB as well")
         return None
+    for key, value in opts.items():  # the store's rule for text fields, before any work
+        if key not in ("store_store", "store_inspected_at") and value is not None:
+            if len(value) > 200 or "\x00" in value:
+                flag = "--" + key.removeprefix("store_").replace("_", "-")
+                what = f"{len(value)} characters" + (", with a NUL" if "\x00" in value else "")
+                fail(
+                    f"{flag}={value[:20]!r}... ({what}): allowed text of at most 200 characters"
+                    " without NUL"
+                )
     _traceability(opts)  # validate the date before the analysis
     from camtol.inspection.store import open_store
 
