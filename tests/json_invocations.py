@@ -77,11 +77,10 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     ],
     "records show": [["records", "show", "1", "--store", "{store}", "--json"]],
     "records stats": [
-        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--cam", "B",
-         "--json"],
-        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--cam", "A",
-         "--json"],
-    ],  # fmt: skip
+        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--json"]
+        + ["--cam", cam]
+        for cam in ("B", "A")
+    ],
 }
 
 

@@ -372,7 +372,7 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
 
 
 def _design_text(design_path: str | None, example: str | None) -> str:
-    """The TOML text the command read: the built-in example's or the design file's."""
+    """Return the TOML text the command read: the built-in example's or the design file's."""
     if example is not None:
         from camtol.examples import example_text
 
@@ -381,7 +381,7 @@ def _design_text(design_path: str | None, example: str | None) -> str:
 
 
 def cmm_record_curve(insp: Any, n_points: int) -> Any:
-    """The record curve of a CMM inspection: Δr of the points kept on θ_j = 360° j / n.
+    """Return a CMM inspection's record curve: Δr of the points kept on θ_j = 360° j / n.
 
     Parameters
     ----------

@@ -195,7 +195,7 @@ def scan_on_grid(
     source: str = "scan",
     max_gap_steps: float = MAX_GAP_STEPS,
 ) -> FloatArray:
-    """A CMM scan's radial deviations on the record grid θ_j = 360° j / n, or refused.
+    """Put a CMM scan's radial deviations on the record grid θ_j = 360° j / n, or refuse.
 
     The honest-resampling rule: the largest gap between neighbouring measured polar angles
     (periodic) must not exceed ``max_gap_steps`` grid steps 360°/n; the deviations are then
