@@ -287,7 +287,7 @@ def monte_carlo(
     band_text = ""
     if band is not None:
         curves = band_curves(band, study.theta_rad, require_nominal=False)
-        band_text = f"lower <= dS <= upper at every angle ({band_label(band)})"
+        band_text = f"lower <= dS <= upper at every angle, band {band_label(band)}"
     qs = ("lift", *(q for q in quantities if q != "lift"))
     if mode == "exact":
         from camtol.tolerancing.exact import run_exact
