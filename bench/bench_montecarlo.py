@@ -74,7 +74,12 @@ def bench_linear(samples: int) -> list[Figure]:
         f" {bytes_ / dt / 1e9 / bw:.1%} of copy bandwidth (ΔS written once)"
     )
     return [
-        Figure("linear MC 1e6 × 3600 × cw06 sources (scaled)", scaled, "s", 10.0),
+        Figure(
+            "linear MC 1e6 × 3600 × cw06 sources" + ("" if samples == 1_000_000 else " (scaled)"),
+            scaled,
+            "s",
+            10.0,
+        ),
         Figure("linear MC peak memory", _rss_gib(), "GiB", 1.0),
     ]
 

@@ -152,3 +152,39 @@ def test_design_level_sources_go_through_the_engine(name: str) -> None:
     np.testing.assert_allclose(
         a.errors.sources["phase"].delta_lift, -k.velocity * math.radians(0.01), atol=1e-15
     )
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")
+def test_overflow_is_named_by_the_extremes_search() -> None:
+    """A curve that overflows is reported by name and angle, not returned as inf.
+
+    The finiteness check rides on the extremes' search (a max and min that are finite
+    mean every sample is): here (1e304 mm)² overflows the RMS while the worst case
+    (2e304 mm) does not.
+    """
+    import dataclasses
+
+    from camtol.design import ToleranceSpec
+    from camtol.exceptions import DesignError
+
+    d = load_example("cw06-translating")
+    huge = (ToleranceSpec("r", deviation=1e307), ToleranceSpec("n", deviation=1e307))
+    with pytest.raises(DesignError, match=r"ΔS RMS is inf at θ=.*overflows"):
+        analyse(dataclasses.replace(d, tolerances=huge))
+
+
+def test_nonfinite_callback_gets_the_first_bad_index() -> None:
+    """find_extremes reports the first non-finite sample and still finds finite extremes."""
+    theta = np.radians(np.arange(0.0, 360.0, 1.0))
+    v = np.sin(theta)
+    v[[40, 7]] = [np.inf, np.nan]
+    seen: list[tuple[str, int]] = []
+    ext = find_extremes(
+        theta,
+        {"f": v},
+        lambda t: {"f": np.sin(t)},
+        step_deg=1.0,
+        on_nonfinite=lambda k, i: seen.append((k, i)),
+    )
+    assert seen == [("f", 7)]
+    assert ext["f"][0].value == pytest.approx(1.0, abs=1e-9)

@@ -12,6 +12,7 @@ import dataclasses
 import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
+from typing import NoReturn
 
 import numpy as np
 
@@ -360,12 +361,22 @@ class Curves(Mapping[str, FloatArray]):
 
 def _extremes(
     curves: Curves,
-    keys: list[str],
+    quantities: tuple[Quantity, ...],
     evaluate: Callable[[FloatArray], Curves],
     theta_rad: FloatArray,
     step_deg: float,
 ) -> dict[str, tuple[Extreme, Extreme]]:
-    """Extremes of the display curves, found on the internal arrays and then converted."""
+    """Extremes of the display curves, found on the internal arrays and then converted.
+
+    Raises
+    ------
+    DesignError
+        A quantity is NaN or infinite somewhere (found by the same search: a quantity
+        whose max and min are finite is finite everywhere), naming the first such
+        quantity in report order and where.
+    """
+    keys = [q.key for q in quantities]
+    labels = {q.key: q.label for q in quantities}
     factors = {k: curves.factor(k) for k in keys}
 
     def values(c: Curves) -> dict[str, FloatArray]:
@@ -381,7 +392,16 @@ def _extremes(
         def __len__(self) -> int:
             return len(keys)
 
-    found = find_extremes(theta_rad, _Lazy(), lambda t: values(evaluate(t)), step_deg=step_deg)
+    def nonfinite(key: str, i: int) -> None:
+        _not_finite(labels[key], float(curves[key][i]), float(theta_rad[i]))
+
+    found = find_extremes(
+        theta_rad,
+        _Lazy(),
+        lambda t: values(evaluate(t)),
+        step_deg=step_deg,
+        on_nonfinite=nonfinite,
+    )
     out = {}
     for key, (hi, lo) in found.items():
         f = factors[key]
@@ -390,6 +410,9 @@ def _extremes(
             continue
         if f < 0.0:
             hi, lo = lo, hi
+        for e in (hi, lo):  # finite internal values may still overflow the display unit
+            if not math.isfinite(e.value * f):
+                _not_finite(labels[key], e.value * f, math.radians(e.theta_deg))
         out[key] = (
             dataclasses.replace(hi, kind="max", value=hi.value * f),
             dataclasses.replace(lo, kind="min", value=lo.value * f),
@@ -437,24 +460,24 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     while True:
         err = errors_from_sensitivities(theta, left, sens, tolerances)
         curves = Curves(cam, kin, err, sens["r"].v)
-        keys = [q.key for q in _quantities(cam, tolerances)]
+        quantities = _quantities(cam, tolerances)
 
         def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
             k, s = evaluate_engine(cam, t, check=False)
             e = errors_from_sensitivities(t, k.left_limit, s, tols)
             return Curves(cam, k, e, s["r"].v)
 
-        extremes = _extremes(curves, keys, evaluate, theta, step_deg)
+        extremes = _extremes(curves, quantities, evaluate, theta, step_deg)
         rmax = max(extremes["radius"][0].value, float(np.nanmax(kin.radius_mm)))
         final = cam.resolve_tolerances(rmax)
         if [t.deviation for t in final] == [t.deviation for t in tolerances]:
             tolerances = final
             break
         tolerances = final  # the refined radius moved an IT grade to another size band
+    # Every curve is finite: the extremes' search checked it (same deviations).
     quantities = _quantities(cam, tolerances)
     err = errors_from_sensitivities(theta, left, sens, tolerances)
     curves = Curves(cam, kin, err, sens["r"].v)
-    _require_finite(quantities, curves, theta)
     if design.mechanism.output == "translating":
         travel = design.program.total_travel
         accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)
@@ -505,21 +528,15 @@ def _checked(label: str, design: CamDesign, step_deg: float) -> Kinematics:
         raise type(exc)(f"cam {label}: {exc}") from None
 
 
-def _require_finite(
-    quantities: tuple[Quantity, ...], curves: Mapping[str, FloatArray], theta_rad: FloatArray
-) -> None:
-    """Raise a DesignError naming the first quantity that is not finite, and where."""
+def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
+    """Raise the DesignError of a quantity that is not finite (overflow), and where."""
     from camtol.exceptions import DesignError
 
-    for q in quantities:
-        ok = np.isfinite(curves[q.key])
-        if not np.all(ok):
-            i = int(np.argmax(~ok))
-            raise DesignError(
-                f"{q.label} is {float(curves[q.key][i])!r} at θ={math.degrees(theta_rad[i]):.6g}°:"
-                " the computation overflows; a dimension or tolerance of the design is far"
-                " outside a plausible range"
-            )
+    raise DesignError(
+        f"{label} is {value!r} at θ={math.degrees(theta_rad):.6g}°:"
+        " the computation overflows; a dimension or tolerance of the design is far"
+        " outside a plausible range"
+    )
 
 
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and

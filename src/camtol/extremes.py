@@ -101,6 +101,7 @@ def find_extremes(
     evaluate: Callable[[FloatArray], Mapping[str, FloatArray]],
     *,
     step_deg: float,
+    on_nonfinite: Callable[[str, int], None] | None = None,
 ) -> dict[str, tuple[Extreme, Extreme]]:
     """Global max and min of each quantity, located to step/1000 or better.
 
@@ -123,6 +124,11 @@ def find_extremes(
         called at most twice, on all refinement windows at once.
     step_deg : float
         Grid step. [deg]
+    on_nonfinite : callable, optional
+        Called as ``on_nonfinite(quantity, index)`` with the first grid index where a
+        quantity is NaN or infinite (it may raise); the extremes are then those of the
+        finite samples. The search finds this on the way (a max and min that are both
+        finite mean every sample is), so a caller needs no pass of its own.
 
     Returns
     -------
@@ -137,6 +143,8 @@ def find_extremes(
         hi, lo = int(np.argmax(v)), int(np.argmin(v))  # NaN or ±inf would be picked
         if not (math.isfinite(v[hi]) and math.isfinite(v[lo])):
             finite = np.isfinite(v)
+            if on_nonfinite is not None:
+                on_nonfinite(name, int(np.argmin(finite)))
             hi = int(np.argmax(np.where(finite, v, -np.inf)))
             lo = int(np.argmin(np.where(finite, v, np.inf)))
         top, bottom = float(v[hi]), float(v[lo])
