@@ -323,3 +323,15 @@ def test_band_hull_reduction_is_exact(tmp_path: Path, rng):
     rows = np.vstack([g / hi[:, None], g / lo[:, None]])
     kept = np.vstack([g[sel] / hi[sel, None], g[sel] / lo[sel, None]])
     np.testing.assert_allclose((x @ kept.T).max(axis=1), (x @ rows.T).max(axis=1), rtol=1e-13)
+
+
+def test_cli_oscillating_band_in_degrees(tmp_path: Path, capsys):
+    band = _write(tmp_path, "theta_deg,lower_deg,upper_deg\n0,-0.05,0.05\n90,-0.05,0.05\n")
+    base = ["allocate", "-e", "cw06-oscillating", "--criterion", "rss"]
+    base += ["--verify-samples", "2000", "--json"]
+    assert main([*base, "--spec-deg", "0.05"]) == 0
+    by_spec = json.loads(capsys.readouterr().out)
+    assert main([*base, "--band", str(band)]) == 0
+    by_band = json.loads(capsys.readouterr().out)
+    assert by_band["grades"] == by_spec["grades"] and by_band["unit"] == "deg"
+    assert by_band["achieved"] == pytest.approx(by_spec["achieved"] / 0.05, rel=1e-9)

@@ -213,5 +213,16 @@ def band_curves(
 
 
 def band_label(band: ToleranceBand | tuple[FloatArray, FloatArray]) -> str:
-    """Short description of a band: its file name, or ``curves`` for arrays."""
+    """Return a short description of a band: its file name, or a phrase for arrays.
+
+    Parameters
+    ----------
+    band : ToleranceBand or (ndarray, ndarray)
+        The band.
+
+    Returns
+    -------
+    str
+        ``band.csv`` (the file's name) or ``curves given in Python``.
+    """
     return band.source if isinstance(band, ToleranceBand) else "curves given in Python"
