@@ -57,6 +57,13 @@ def test_reader_units_separators_comments_and_periodic_interpolation(tmp_path: P
     np.testing.assert_allclose(hi * 1e3, [30.0, 30.0, 20.0, 20.0, 30.0], atol=1e-12)
 
 
+def test_reader_ignores_other_columns(tmp_path: Path):
+    p = _write(tmp_path, "note,theta_deg,upper_um,lower_um\nrise,0,5,-4\nreturn,180,6,-3\n")
+    b = read_band_csv(p, "translating")
+    np.testing.assert_allclose(b.upper * 1e3, [5.0, 6.0], rtol=1e-15)
+    np.testing.assert_allclose(b.lower * 1e3, [-4.0, -3.0], rtol=1e-15)
+
+
 def test_reader_oscillating_in_degrees(tmp_path: Path):
     p = _write(tmp_path, "theta_deg lower_deg upper_deg\n0 -0.05 0.1\n180 -0.02 0.03\n")
     b = read_band_csv(p, "oscillating")
@@ -67,6 +74,7 @@ def test_reader_oscillating_in_degrees(tmp_path: Path):
 BAD = [
     ("theta_deg,lower_deg,upper_deg\n0,-1,1\n90,-1,1\n", "band.csv: the band is given in deg"),
     ("theta_deg,lower_um\n0,-1\n90,-1\n", "band.csv: the tolerance band needs the columns"),
+    ("angle,lower_um,upper_um\n0,-1,1\n90,-1,1\n", "missing theta_deg; found: angle, lower_um"),
     ("theta_deg,lower_um,upper_um\n0,-1,1\n90,abc,1\n", "band.csv, line 3, column lower_um:"),
     ("theta_deg,lower_um,upper_um\n0,-1,1\n90,-1\n", "band.csv, line 3: expected 3 cells"),
     ("theta_deg,lower_um,upper_um\n0,-1,nan\n90,-1,1\n", "band.csv, line 2, column upper_um:"),

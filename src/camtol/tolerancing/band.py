@@ -105,26 +105,19 @@ def read_band_csv(path: str | Path, output: OutputKind) -> ToleranceBand:
     unit, factor = _UNITS[output]
     other = "deg" if unit == "um" else "um"
     want = ("theta_deg", f"lower_{unit}", f"upper_{unit}")
-    tab = read_table(
-        p,
-        required=("theta_deg",),
-        optional=want[1:] + (f"lower_{other}", f"upper_{other}"),
-        what="tolerance band",
-    )
-    if any(n in tab for n in (f"lower_{other}", f"upper_{other}")) and not all(
-        n in tab for n in want[1:]
-    ):
+    others = (f"lower_{other}", f"upper_{other}")
+    # Only these columns are read (others may hold notes); the missing ones are told below.
+    tab = read_table(p, optional=want + others, ignore_other_columns=True, what="tolerance band")
+    if any(n in tab for n in others) and not all(n in tab for n in want[1:]):
         what = "a lift (translating follower)" if unit == "um" else "a swing (oscillating follower)"
         raise InputFileError(
             f"{p}: the band is given in {other}, but this design's output is {what};"
             f" give the columns {', '.join(want)}"
         )
-    missing = [c for c in want if c not in tab]
-    if missing:
-        raise InputFileError(
-            f"{p}: the tolerance band needs the columns {', '.join(want)}; missing"
-            f" {', '.join(missing)}; found: {', '.join(tab.names)}"
-        )
+    if not all(c in tab for c in want):
+        # Read again requiring them: the reader's message names the columns it found.
+        read_table(p, required=want, ignore_other_columns=True, what="tolerance band")
+        raise InputFileError(f"{p}: the tolerance band needs the columns {', '.join(want)}")
     theta = np.array(tab.column("theta_deg"), dtype=float)
     lower = np.array(tab.column(want[1]), dtype=float)
     upper = np.array(tab.column(want[2]), dtype=float)
