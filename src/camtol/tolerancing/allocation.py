@@ -25,7 +25,7 @@ import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
@@ -359,7 +359,7 @@ def _allocate(
             return np.asarray(np.sqrt((rss_rows @ np.hstack([t * t, ones]).T).max(axis=0)))
         return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
 
-    def no_grade(achieved: str) -> None:
+    def no_grade(achieved: str) -> NoReturn:
         _no_grade(
             base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, scale, base.unit, achieved
         )
@@ -521,7 +521,8 @@ def _no_grade(
     scale: float,
     unit: str,
     achieved: str,
-) -> None:
+) -> NoReturn:
+    """Raise the "no grade can meet it" error (dominant source at the worst angle)."""
     part = np.abs(g) * finest[None, :] * w[:, None]
     i = int(np.argmax(part.sum(axis=1)))
     j = int(np.argmax(part[i]))
