@@ -1,8 +1,9 @@
 """Invocations whose ``--json`` output tests/test_json_schemas.py validates (issue 13 item 6).
 
 Each command with a ``--json`` flag needs at least one entry here and a schema file
-``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory and
-``{scan}`` a simulated CMM scan of cam B of cw11-experiment.
+``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory,
+``{scan}`` a simulated CMM scan of cam B of cw11-experiment and ``{band}`` a tolerance band
+(theta_deg, lower_um, upper_um).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "montecarlo": [
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--spec-um", "25", "--json"],
         ["montecarlo", "-e", "roller-translating", "--samples", "50", "--mode", "exact", "--json"],
+        ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--band", "{band}", "--json"],
     ],
     "allocate": [
         ["allocate", "-e", "cw06-translating", "--spec-um", "30", "--json"],
@@ -24,6 +26,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
             "rss",
             "--json",
         ],
+        ["allocate", "-e", "cw06-translating", "--band", "{band}", "--json"],
     ],
     "analyze": [
         ["analyze", "-e", "cw06-translating", "--step", "0.5", "--json"],
@@ -86,4 +89,6 @@ def prepare(tmp: str) -> dict[str, str]:
     scan = Path(tmp) / "b.csv"
     args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(scan), "--cam", "B"]
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
-    return {"tmp": tmp, "scan": str(scan)}
+    band = Path(tmp) / "band.csv"
+    band.write_text("theta_deg,lower_um,upper_um\n0,-25,40\n180,-30,30\n")
+    return {"tmp": tmp, "scan": str(scan), "band": str(band)}
