@@ -1,9 +1,11 @@
 """Invocations whose ``--json`` output tests/test_json_schemas.py validates (issue 13 item 6).
 
 Each command with a ``--json`` flag needs at least one entry here and a schema file
-``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory and
-``{scan}`` a simulated CMM scan of cam B of cw11-experiment; ``{store}`` an inspection
-store holding two CMM records of that scan and a fixture record of cams A and B.
+``src/camtol/data/schemas/<command>.schema.json`` (a subcommand ``records list``:
+``records-list.schema.json``). ``{tmp}`` is a scratch directory, ``{scan}`` a simulated CMM
+scan of cam B of cw11-experiment, ``{band}`` a tolerance band (theta_deg, lower_um,
+upper_um) and ``{store}`` an inspection store holding two CMM records of that scan and a
+fixture record of cams A and B.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "montecarlo": [
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--spec-um", "25", "--json"],
         ["montecarlo", "-e", "roller-translating", "--samples", "50", "--mode", "exact", "--json"],
+        ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--band", "{band}", "--json"],
     ],
     "allocate": [
         ["allocate", "-e", "cw06-translating", "--spec-um", "30", "--json"],
@@ -25,6 +28,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
             "rss",
             "--json",
         ],
+        ["allocate", "-e", "cw06-translating", "--band", "{band}", "--json"],
     ],
     "analyze": [
         ["analyze", "-e", "cw06-translating", "--step", "0.5", "--json"],
@@ -97,11 +101,15 @@ def prepare(tmp: str) -> dict[str, str]:
     scan = Path(tmp) / "b.csv"
     args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(scan), "--cam", "B"]
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
+    band = Path(tmp) / "band.csv"
+    band.write_text("theta_deg,lower_um,upper_um\n0,-25,40\n180,-30,30\n")
+    subs = {"tmp": tmp, "scan": str(scan), "band": str(band)}
     store = Path(tmp) / "records.db"
+    subs["store"] = str(store)
     try:
         import sqlalchemy  # noqa: F401
     except ImportError:  # the records invocations are skipped without camtol[store]
-        return {"tmp": tmp, "scan": str(scan), "store": str(store)}
+        return subs
     for serial in ("1", "2"):  # two CMM records of cam B and a fixture record of A and B
         insp = ["inspect", "-e", "cw11-experiment", "--points", str(scan), "--cam", "B"]
         opts = ["--stylus-radius-mm", "1", "--store", str(store), "--serial", serial, "-q"]
@@ -109,4 +117,4 @@ def prepare(tmp: str) -> dict[str, str]:
     fixture = ["conjugate", "-e", "cw11-experiment", "--df-mea", "20", "--step", "1", "-q"]
     fixture += ["--store", str(store)]
     assert main([*fixture, "--serial", "3", "--lot", "L1"]) in (0, 1)
-    return {"tmp": tmp, "scan": str(scan), "store": str(store)}
+    return subs

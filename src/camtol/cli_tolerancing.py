@@ -66,6 +66,17 @@ def _spec(design: Any, spec_um: float | None, spec_deg: float | None) -> float |
     return None
 
 
+def _band(design: Any, band: str | None, spec: float | None) -> Any:
+    """Read ``--band FILE.csv`` (None without it); refuse it together with a spec."""
+    if band is None:
+        return None
+    if spec is not None:
+        fail("give --band or --spec-um/--spec-deg, not both")
+    from camtol.tolerancing.band import read_band_csv
+
+    return read_band_csv(band, design.mechanism.output)
+
+
 def curves_csv(result: Any) -> str:
     """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md)."""
     s = result.statistics["lift"]
@@ -155,6 +166,11 @@ def _print(result: Any) -> None:
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random streams.")
 @click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um] (gives the yield).")
 @click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option(
+    "--band",
+    metavar="FILE.csv",
+    help="Band lower <= dS <= upper (theta_deg, lower_um, upper_um or _deg) for the yield.",
+)
 @click.option("--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid [deg].")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--curves", metavar="FILE.csv", help="Write per-angle statistics and shares.")
@@ -172,6 +188,7 @@ def montecarlo(
     seed: int,
     spec_um: float | None,
     spec_deg: float | None,
+    band: str | None,
     step_deg: float,
     as_json: bool,
     curves: str | None,
@@ -193,6 +210,7 @@ def montecarlo(
             fail(f"--workers={workers} is not allowed; give 1 or more")
         d = load_input(design, example)
         spec = _spec(d, spec_um, spec_deg)
+        limits = _band(d, band, spec)
         from camtol.tolerancing import monte_carlo
 
         with _progress("Monte Carlo", not as_json) as progress:
@@ -202,6 +220,7 @@ def montecarlo(
                 mode=mode,  # type: ignore[arg-type]
                 seed=seed,
                 spec=spec,
+                band=limits,
                 quantities=("lift", "velocity", "acceleration") if derivatives else ("lift",),
                 step_deg=step_deg,
                 workers=workers,
@@ -227,6 +246,11 @@ def montecarlo(
 @design_options
 @click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um].")
 @click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option(
+    "--band",
+    metavar="FILE.csv",
+    help="Band lower <= dS <= upper (theta_deg, lower_um, upper_um or _deg) instead of a spec.",
+)
 @click.option(
     "--criterion",
     type=click.Choice(["worst_case", "rss", "monte_carlo"]),
@@ -271,6 +295,7 @@ def allocate(
     example: str | None,
     spec_um: float | None,
     spec_deg: float | None,
+    band: str | None,
     criterion: str,
     target_yield: float,
     grades: str,
@@ -289,8 +314,12 @@ def allocate(
 
         d = load_input(design, example)
         spec = _spec(d, spec_um, spec_deg)
-        if spec is None:
-            fail("give the spec on max |dS|: --spec-um (lift) or --spec-deg (swing)")
+        curves = _band(d, band, spec)
+        if spec is None and curves is None:
+            fail(
+                "give the spec on max |dS|: --spec-um (lift) or --spec-deg (swing), or a band"
+                " (--band FILE.csv)"
+            )
         lo, sep, hi = grades.partition("-")
         try:
             a, b = iso286.parse_grade(lo), iso286.parse_grade(hi if sep else lo)
@@ -310,7 +339,8 @@ def allocate(
             fail("--samples and --verify-samples must be ≥ 1")
         res = run(
             d,
-            float(spec),  # type: ignore[arg-type]
+            spec,
+            band=curves,
             criterion=criterion,  # type: ignore[arg-type]
             grades=iso286.GRADES[i : j + 1],
             target_yield=target_yield,
@@ -337,6 +367,7 @@ def allocate(
                 ],
                 "criterion": res.criterion,
                 "spec": res.spec,
+                "band": res.band,
                 "unit": res.unit,
                 "achieved": res.achieved,
                 "cost": res.cost,
@@ -348,18 +379,22 @@ def allocate(
             echo_json(out, command="allocate")
             return EXIT_OK
         echo = click.echo
-        echo(
-            f"camtol allocate: {d.name}, spec max |dS| <= {res.spec:g} {res.unit},"
-            f" criterion {res.criterion}"
+        what_spec = (
+            f"band {res.band} (lower <= dS <= upper)"
+            if res.spec is None
+            else f"spec max |dS| <= {res.spec:g} {res.unit}"
         )
+        echo(f"camtol allocate: {d.name}, {what_spec}, criterion {res.criterion}")
         for k, g in res.grades.items():
             echo(f"  {k:<6}{g:<6}{res.tolerances[k]}")
         what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
-        val = (
-            f"{res.achieved:.4%}"
-            if res.criterion == "monte_carlo"
-            else f"{res.achieved:.4g} {res.unit}"
-        )
+        if res.criterion == "monte_carlo":
+            val = f"{res.achieved:.4%}"
+        elif res.spec is None:
+            what += " / band half-width"
+            val = f"{res.achieved:.4g}"
+        else:
+            val = f"{res.achieved:.4g} {res.unit}"
         echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
         echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
         y = res.verified

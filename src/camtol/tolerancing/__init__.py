@@ -8,6 +8,7 @@ meet it?" (:func:`allocate`), as functions of the cam angle (docs/tolerancing.md
 from __future__ import annotations
 
 from camtol.tolerancing.allocation import Allocation, allocate
+from camtol.tolerancing.band import ToleranceBand, read_band_csv
 from camtol.tolerancing.distributions import SourceDistribution
 from camtol.tolerancing.model import StatisticalModel, statistical_model
 from camtol.tolerancing.montecarlo import monte_carlo
@@ -20,7 +21,9 @@ __all__ = [
     "ProfileProcess",
     "SourceDistribution",
     "StatisticalModel",
+    "ToleranceBand",
     "allocate",
     "monte_carlo",
+    "read_band_csv",
     "statistical_model",
 ]

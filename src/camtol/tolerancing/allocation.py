@@ -1,8 +1,10 @@
 """Tolerance allocation: the cheapest IT grade per source that meets a motion spec.
 
-Given a spec on max_θ |ΔS| and a criterion (worst case Σ|ΔS_p|, RSS sqrt(ΣΔS_p²) of
-THEORY §3.4, or a Monte Carlo yield target such as 99.73 %), every combination of grades
-(default IT5-IT12 for every toleranced source) is ranked by a reciprocal-power cost
+Given a spec on max_θ |ΔS| (or a band lower(θ) ≤ ΔS(θ) ≤ upper(θ), reduced to weights
+on the same computations: see :func:`allocate`) and a criterion (worst case Σ|ΔS_p|, RSS
+sqrt(ΣΔS_p²) of THEORY §3.4, or a Monte Carlo yield target such as 99.73 %), every
+combination of grades (default IT5-IT12 for every toleranced source) is ranked by a
+reciprocal-power cost
 
     cost = Σ_k a_k (T_k(coarsest grade) / T_k)^b      (a_k = 1, b = 1 by default)
 
@@ -23,14 +25,16 @@ import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, NoReturn
 
 import numpy as np
+from numpy.typing import NDArray
 
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance, ToleranceSpec
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
+from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
 from camtol.tolerancing.model import StatisticalModel, statistical_model
 from camtol.tolerancing.results import YieldEstimate
 
@@ -54,31 +58,35 @@ class Allocation:
         The same deviations in internal units, with how each was obtained. [mm, rad]
     criterion : str
         ``worst_case``, ``rss`` or ``monte_carlo``.
-    spec : float
-        Spec on max |ΔS|. [unit]
+    spec : float or None
+        Spec on max |ΔS| (None when a band was given). [unit]
     unit : str
         ``um`` or ``deg``.
     achieved : float
-        The criterion's figure at the chosen grades: max worst case or RSS, or the Monte
-        Carlo yield (0-1). [unit, or -]
+        The criterion's figure at the chosen grades: max worst case or RSS [unit], or the
+        Monte Carlo yield (0-1) [-]. With a band, worst case and RSS give the largest
+        ratio over θ of the figure to the band half-width min(upper, −lower) (≤ 1). [-]
     cost : float
         Cost of the choice. [-]
     accuracy : iso286.GradeBracket
         IT grades of the travel that bracket the worst case at the chosen grades.
     verified : YieldEstimate
-        Yield of max |ΔS| ≤ spec from a fresh linear Monte Carlo run.
+        Yield of max |ΔS| ≤ spec (or of the band) from a fresh linear Monte Carlo run.
     coarser_fails : dict of str to bool or None
         For each source, whether one grade coarser breaks the spec (None: already at the
         coarsest grade).
     evaluated : int
         Combinations evaluated.
+    band : str or None
+        The band, when one was given instead of a spec: its file name, or
+        ``curves given in Python``.
     """
 
     grades: dict[str, str]
     tolerances: dict[str, str]
     deviations: tuple[ResolvedTolerance, ...]
     criterion: str
-    spec: float
+    spec: float | None
     unit: str
     achieved: float
     cost: float
@@ -86,6 +94,7 @@ class Allocation:
     verified: YieldEstimate
     coarser_fails: dict[str, bool | None]
     evaluated: int
+    band: str | None = None
 
 
 def _with_grades(design: CamDesign, keys: list[str], grades: tuple[str, ...]) -> CamDesign:
@@ -115,6 +124,30 @@ def _hull_angles(g: FloatArray) -> FloatArray:
         return g
 
 
+def _band_hull_angles(g: FloatArray, lower: FloatArray, upper: FloatArray) -> NDArray[np.intp]:
+    """Angles whose rows g/upper or g/lower are vertices of the hull of all of them.
+
+    A sample x leaves the band somewhere iff max over the rows R of {g(θ)/upper(θ),
+    g(θ)/lower(θ)} of x · R > 1 (lower < 0 flips the inequality), and that maximum is
+    reached at a vertex of the convex hull of the rows (exact). Returns the indices of
+    those angles (every angle when the rows span more than 3 dimensions or qhull fails).
+    """
+    n = g.shape[0]
+    every = np.arange(n)
+    _, sv, vt = np.linalg.svd(g, full_matrices=False)
+    rank = int(np.count_nonzero(sv > 1e-10 * sv[0])) if sv.size and sv[0] > 0 else 0
+    if not 2 <= rank <= 3:
+        return every
+    try:
+        from scipy.spatial import ConvexHull, QhullError
+
+        p = g @ vt[:rank].T
+        hull = ConvexHull(np.vstack([p / upper[:, None], p / lower[:, None]]))
+        return np.unique(np.asarray(hull.vertices) % n)
+    except (QhullError, ValueError):
+        return every
+
+
 def _pareto_rows(p: FloatArray) -> FloatArray:
     """Return the non-dominated rows of a non-negative matrix (the Pareto front).
 
@@ -134,8 +167,9 @@ def _pareto_rows(p: FloatArray) -> FloatArray:
 
 def allocate(
     design: CamDesign,
-    spec: float,
+    spec: float | None = None,
     *,
+    band: ToleranceBand | tuple[FloatArray, FloatArray] | None = None,
     criterion: Criterion = "worst_case",
     grades: tuple[str, ...] = DEFAULT_GRADES,
     target_yield: float = 0.9973,
@@ -147,14 +181,19 @@ def allocate(
     model: StatisticalModel | None = None,
     step_deg: float = 0.1,
 ) -> Allocation:
-    """Choose the cheapest IT grade per toleranced source meeting a spec on max |ΔS|.
+    """Choose the cheapest IT grade per toleranced source meeting a spec or a band.
 
     Parameters
     ----------
     design : CamDesign
         The design; its toleranced sources are allocated (their current values ignored).
-    spec : float
+    spec : float, optional
         Spec on max_θ |ΔS|. [mm, or rad for an oscillating follower]
+    band : ToleranceBand or (ndarray, ndarray), optional
+        Instead of ``spec``: lower(θ) ≤ ΔS(θ) ≤ upper(θ) at every angle, a
+        :class:`~camtol.tolerancing.band.ToleranceBand` (:func:`read_band_csv`) or two
+        curves on the grid of ``step_deg``, with lower < 0 < upper everywhere.
+        [mm or rad]
     criterion : {"worst_case", "rss", "monte_carlo"}
         How the output error is combined (THEORY §3.4) or sampled.
     grades : tuple of str
@@ -181,8 +220,26 @@ def allocate(
     Raises
     ------
     DesignError
-        A bad argument, or a spec no grade can meet (naming the dominant source and what
-        the finest grade achieves).
+        A bad argument, both or neither of ``spec`` and ``band``, a band not containing
+        ΔS = 0 at some angle, or a spec no grade can meet (naming the dominant source and
+        what the finest grade achieves; for a band, ratios to the band and the angle).
+
+    Notes
+    -----
+    A band reduces exactly to the computations of a spec by weighting the sensitivity
+    rows g(θ) (the fixed process part included) at each angle; with a spec the weight is
+    1 and the limit the spec, with a band (lower < 0 < upper):
+
+    - worst case, zones symmetric (±t_k): Σ_k |g_k(θ)| t_k ≤ min(upper(θ), −lower(θ)) at
+      every θ ⇔ max_θ Σ_k (|g_k(θ)| / m(θ)) t_k ≤ 1 with m = min(upper, −lower): the
+      rows divided by m, limit 1. A symmetric bound must fit the nearer limit, so an
+      asymmetric band is used by its narrower side;
+    - RSS: sqrt(Σ_k g_k² t_k²) ≤ m(θ) ⇔ max_θ Σ_k (g_k² / m²) t_k² ≤ 1: rows g²/m²;
+    - Monte Carlo: a sample x fails iff x·g(θ) > upper(θ) or x·g(θ) < lower(θ) at some θ
+      ⇔ max over the rows {g/upper, g/lower} of x · row > 1 (no absolute value: lower < 0
+      flips the second inequality). With a spec the rows are {g/spec, −g/spec}, i.e.
+      max |x·g| > spec. Only the angles whose rows are vertices of the convex hull of
+      those rows are needed (exact, when they span at most 3 dimensions).
     """
     from camtol.tolerancing.montecarlo import single_threaded_blas
 
@@ -190,6 +247,7 @@ def allocate(
         return _allocate(
             design,
             spec,
+            band,
             criterion,
             grades,
             target_yield,
@@ -205,7 +263,8 @@ def allocate(
 
 def _allocate(
     design: CamDesign,
-    spec: float,
+    spec: float | None,
+    band: ToleranceBand | tuple[FloatArray, FloatArray] | None,
     criterion: Criterion,
     grades: tuple[str, ...],
     target_yield: float,
@@ -223,7 +282,11 @@ def _allocate(
         raise DesignError(
             f"criterion={criterion!r} is unknown; allowed: worst_case, rss, monte_carlo"
         )
-    if not (math.isfinite(spec) and spec > 0):
+    if (spec is None) == (band is None):
+        raise DesignError(
+            "give spec (on max |ΔS|) or band (lower/upper curves of ΔS): exactly one of them"
+        )
+    if spec is not None and not (math.isfinite(spec) and spec > 0):
         raise DesignError(f"spec={spec!r} is not allowed; it must be > 0")
     if not 0 < target_yield < 1:
         raise DesignError(f"target_yield={target_yield!r} must lie in (0, 1)")
@@ -247,6 +310,7 @@ def _allocate(
     base = prepare(
         _with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg
     )
+    curves = None if band is None else band_curves(band, base.theta_rad)
     from camtol.analysis import max_radius_mm
 
     rmax = max_radius_mm(design)
@@ -256,13 +320,24 @@ def _allocate(
     g_all = base.sens["lift"]
     nk = len(keys)
     g = g_all[:, :nk]
-    fixed_wc = np.zeros(g.shape[0])
-    fixed_rss = np.zeros(g.shape[0])
+    n_ang = g.shape[0]
+    fixed_wc = np.zeros(n_ang)
+    fixed_rss = np.zeros(n_ang)
     if base.plan.process is not None:
         pg = g_all[:, nk:]
         b = base.plan.column_bounds()[1][nk:]
         fixed_wc = np.abs(pg) @ b
         fixed_rss = fixed_wc * fixed_wc
+    # The spec as weights w(θ) on the rows and a limit: max |ΔS| ≤ spec is w = 1 and
+    # limit = spec; a band is w = 1/m(θ), m = min(upper, −lower), and limit = 1 (exact for
+    # symmetric zones; see the allocate docstring).
+    if curves is not None:
+        w = 1.0 / np.minimum(curves[1], -curves[0])
+        limit = 1.0
+    else:
+        assert spec is not None
+        w = np.ones(n_ang)
+        limit = float(spec)
     combos = np.array(list(itertools.product(range(len(grades)), repeat=nk)), dtype=np.int64)
     t_comb = dev[np.arange(nk)[None, :], combos]  # (C, nk)
     ref = dev[:, -1]
@@ -271,18 +346,23 @@ def _allocate(
     )
     scale = base.scale
 
-    # max_θ of Σ|g_k| t_k (+ a fixed process part) is a maximum of linear functions of
-    # (t, 1) with non-negative coefficients: only the non-dominated rows (|g|, fixed) can
-    # reach it, and likewise (g², fixed) for Σ g_k² t_k² (exact).
-    wc_rows = _pareto_rows(np.hstack([np.abs(g), fixed_wc[:, None]]))
-    rss_rows = _pareto_rows(np.hstack([g * g, fixed_rss[:, None]]))
+    # max_θ of w(θ)(Σ|g_k| t_k + a fixed process part) is a maximum of linear functions of
+    # (t, 1) with non-negative coefficients: only the non-dominated rows w·(|g|, fixed) can
+    # reach it, and likewise w²·(g², fixed) for Σ g_k² t_k² (exact).
+    wc_rows = _pareto_rows(np.hstack([np.abs(g), fixed_wc[:, None]]) * w[:, None])
+    rss_rows = _pareto_rows(np.hstack([g * g, fixed_rss[:, None]]) * (w * w)[:, None])
 
     def figure(t: FloatArray) -> FloatArray:
-        """max_θ worst case or RSS for rows of tolerances t (internal units)."""
+        """max_θ worst case or RSS (times w) for rows of tolerances t (internal units)."""
         ones = np.ones((t.shape[0], 1))
         if criterion == "rss":
             return np.asarray(np.sqrt((rss_rows @ np.hstack([t * t, ones]).T).max(axis=0)))
         return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
+
+    def no_grade(achieved: str) -> NoReturn:
+        _no_grade(
+            base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, scale, base.unit, achieved
+        )
 
     finest = dev[:, 0][None, :]
     evaluated = 0
@@ -290,9 +370,17 @@ def _allocate(
     if criterion == "monte_carlo":
         u_plan = base.plan
         x_unit = sample_matrix(u_plan, seed, samples)  # samples at the finest grades
-        verts = _hull_angles(np.hstack([g, g_all[:, nk:]]))
+        g_full = np.hstack([g, g_all[:, nk:]])
+        if curves is None:
+            verts = _hull_angles(g_full)
+            v_lo = np.full(verts.shape[0], -limit)
+            v_hi = np.full(verts.shape[0], limit)
+            v_w = np.ones(verts.shape[0])
+        else:
+            sel = _band_hull_angles(g_full, curves[0], curves[1])
+            verts, v_lo, v_hi, v_w = g_full[sel], curves[0][sel], curves[1][sel], w[sel]
         ones = np.ones((t_comb.shape[0], 1))
-        wc_ok = (wc_rows @ np.hstack([t_comb, ones]).T).max(axis=0) <= spec
+        wc_ok = (wc_rows @ np.hstack([t_comb, ones]).T).max(axis=0) <= limit
         bounded = bool(np.all(base.plan.column_bounds()[2]))
 
         allowed = int(math.floor((1.0 - target_yield) * samples))
@@ -300,26 +388,31 @@ def _allocate(
         # Screening angles: a sample failing at a subset of the angles fails, so a
         # candidate whose failures on the subset already exceed the allowance is
         # rejected without the full grid (exact). Subset: each column's peak and the 64
-        # angles of largest worst case at the finest grades.
-        wc_fine = np.abs(verts[:, :nk]) @ dev[:, 0]
+        # angles of largest worst case (relative to the band) at the finest grades.
+        wc_fine = (np.abs(verts[:, :nk]) @ dev[:, 0]) * v_w
         pick = set(np.argsort(wc_fine)[-64:].tolist())
-        pick |= set(np.argmax(np.abs(verts), axis=0).tolist())
-        screen = verts[sorted(pick)]
+        pick |= set(np.argmax(np.abs(verts) * v_w[:, None], axis=0).tolist())
+        ix = sorted(pick)
+        screen, s_lo, s_hi = verts[ix], v_lo[ix], v_hi[ix]
+
+        def failing(y: FloatArray, lo: FloatArray, hi: FloatArray) -> int:
+            """Count the samples (rows of y, ΔS at some angles) outside [lo, hi] somewhere."""
+            if curves is None:  # symmetric: max |ΔS| > spec
+                return int(np.count_nonzero(np.max(np.abs(y), axis=1) > limit))
+            return int(np.count_nonzero(np.any((y > hi) | (y < lo), axis=1)))
 
         def yield_of(t: FloatArray, *, early: bool = True) -> float:
             """Yield with common random numbers; stops once the target is out of reach."""
             f = np.ones(x_unit.shape[1])
             f[:nk] = t / dev[:, 0]
             if early:
-                m = np.max(np.abs(x_unit @ (screen.T * f[:, None])), axis=1)
-                lower_failures = int(np.count_nonzero(m > spec))
+                lower_failures = failing(x_unit @ (screen.T * f[:, None]), s_lo, s_hi)
                 if lower_failures > allowed:
                     return 1.0 - lower_failures / samples  # an upper bound, below target
             vt = verts.T * f[:, None]
             failures = 0
             for s0 in range(0, samples, 512):
-                m = np.max(np.abs(x_unit[s0 : s0 + 512] @ vt), axis=1)
-                failures += int(np.count_nonzero(m > spec))
+                failures += failing(x_unit[s0 : s0 + 512] @ vt, v_lo, v_hi)
                 if early and failures > allowed:
                     return 1.0 - failures / samples  # an upper bound, below the target
             return 1.0 - failures / samples
@@ -342,17 +435,7 @@ def _allocate(
             dominated |= np.all(combos >= combos[c], axis=1)
         if choice < 0:
             y = yield_of(finest[0])
-            _no_grade(
-                base.theta_rad,
-                keys,
-                grades,
-                g,
-                finest[0],
-                spec,
-                scale,
-                base.unit,
-                f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})",
-            )
+            no_grade(f"the Monte Carlo yield is {y:.4%} (target {target_yield:.4%})")
         achieved = yield_of(t_comb[choice], early=False)
         fails: dict[str, bool | None] = {}
         for j, k in enumerate(keys):
@@ -365,23 +448,24 @@ def _allocate(
     else:
         assert wc is not None
         evaluated = combos.shape[0]
-        ok = wc <= spec
+        ok = wc <= limit
         if not ok.any():
             what = "worst case" if criterion == "worst_case" else "RSS"
-            _no_grade(
-                base.theta_rad,
-                keys,
-                grades,
-                g,
-                finest[0],
-                spec,
-                scale,
-                base.unit,
-                f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}",
+            if curves is None:
+                no_grade(f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}")
+            t0 = dev[:, 0]
+            if criterion == "rss":
+                per = np.sqrt((g * g) @ (t0 * t0) + fixed_rss) * w
+            else:
+                per = (np.abs(g) @ t0 + fixed_wc) * w
+            i = int(np.argmax(per))
+            no_grade(
+                f"the {what} reaches {per[i]:.4g} times the band half-width"
+                f" min(upper, -lower) at {math.degrees(float(base.theta_rad[i])):.1f}°"
             )
         cand = np.flatnonzero(ok)
         choice = int(cand[np.argmin(cost[cand])])
-        achieved = float(wc[choice] * scale)
+        achieved = float(wc[choice] * (scale if curves is None else 1.0))
         fails = {}
         for j, k in enumerate(keys):
             idx = combos[choice].copy()
@@ -389,7 +473,7 @@ def _allocate(
                 fails[k] = None
                 continue
             idx[j] += 1
-            fails[k] = bool(figure(dev[np.arange(nk), idx][None, :])[0] > spec)
+            fails[k] = bool(figure(dev[np.arange(nk), idx][None, :])[0] > limit)
     chosen = tuple(grades[i] for i in combos[choice])
     final = _with_grades(design, keys, chosen)
     tols = final.resolve_tolerances(rmax)
@@ -399,7 +483,13 @@ def _allocate(
     else:
         accuracy = iso286.grade_of_angle_deviation(worst, math.degrees(design.program.total_travel))
     check = monte_carlo(
-        final, verify_samples, seed=seed + 1, model=model, spec=spec, step_deg=step_deg
+        final,
+        verify_samples,
+        seed=seed + 1,
+        model=model,
+        spec=spec,
+        band=curves,
+        step_deg=step_deg,
     )
     assert check.yield_estimate is not None
     return Allocation(
@@ -407,7 +497,7 @@ def _allocate(
         tolerances={t.key: t.display for t in tols},
         deviations=tuple(tols),
         criterion=criterion,
-        spec=spec * scale,
+        spec=None if spec is None else spec * scale,
         unit=base.unit,
         achieved=achieved,
         cost=float(cost[choice]),
@@ -415,6 +505,7 @@ def _allocate(
         verified=check.yield_estimate,
         coarser_fails=fails,
         evaluated=evaluated,
+        band=None if band is None else band_label(band),
     )
 
 
@@ -424,17 +515,27 @@ def _no_grade(
     grades: tuple[str, ...],
     g: FloatArray,
     finest: FloatArray,
-    spec: float,
+    w: FloatArray,
+    spec: float | None,
+    band: ToleranceBand | tuple[FloatArray, FloatArray] | None,
     scale: float,
     unit: str,
     achieved: str,
-) -> None:
-    part = np.abs(g) * finest[None, :]
+) -> NoReturn:
+    """Raise the "no grade can meet it" error (dominant source at the worst angle)."""
+    part = np.abs(g) * finest[None, :] * w[:, None]
     i = int(np.argmax(part.sum(axis=1)))
     j = int(np.argmax(part[i]))
+    where = f"{math.degrees(float(theta_rad[i])):.1f}°"
+    if band is None:
+        assert spec is not None
+        raise DesignError(
+            f"spec max |dS| <= {spec * scale:g} {unit} cannot be met with grades"
+            f" {grades[0]}-{grades[-1]}: with every source at {grades[0]} {achieved};"
+            f" source {keys[j]!r} dominates ({part[i, j] * scale:.4g} {unit} at {where})"
+        )
     raise DesignError(
-        f"spec max |dS| <= {spec * scale:g} {unit} cannot be met with grades"
-        f" {grades[0]}-{grades[-1]}: with every source at {grades[0]} {achieved};"
-        f" source {keys[j]!r} dominates ({part[i, j] * scale:.4g} {unit} at"
-        f" {math.degrees(float(theta_rad[i])):.1f}°)"
+        f"band {band_label(band)} cannot be met with grades {grades[0]}-{grades[-1]}: with"
+        f" every source at {grades[0]} {achieved}; source {keys[j]!r} dominates (its worst"
+        f" case alone is {part[i, j]:.4g} times the band half-width at {where})"
     )

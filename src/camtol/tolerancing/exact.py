@@ -154,6 +154,9 @@ def run_exact(
     seed: int,
     spec: float | None,
     progress: Callable[[int, int], None] | None,
+    *,
+    band: tuple[FloatArray, FloatArray] | None = None,
+    band_text: str = "lower <= dS <= upper at every angle",
 ) -> MonteCarloResult:
     """Run an exact-mode study (see the module docstring).
 
@@ -169,6 +172,11 @@ def run_exact(
         Spec on max |ΔS|. [mm or rad]
     progress : callable or None
         Called with (samples done, samples).
+    band : (ndarray, ndarray), optional
+        Lower and upper curves of ΔS on the study's grid: the yield counts the samples
+        whose exact ΔS(θ) lies inside at every angle (instead of ``spec``). [mm or rad]
+    band_text : str
+        The band in words, for the yield.
     """
     from camtol.tolerancing.montecarlo import (
         comparison_rows,
@@ -221,6 +229,9 @@ def run_exact(
         y = YieldEstimate.of(
             int(np.count_nonzero(e_max <= spec)), samples, f"max |dS| <= {spec * s:g} {study.unit}"
         )
+    elif band is not None:
+        inside = np.all((exact >= band[0][None, :]) & (exact <= band[1][None, :]), axis=1)
+        y = YieldEstimate.of(int(np.count_nonzero(inside)), samples, band_text)
     if samples > study.plan.columns + 1:
         sh = regression_shares(x, exact, study.plan.groups)
         shares = {lab: sh[j] for j, lab in enumerate(study.plan.labels)}
@@ -228,7 +239,7 @@ def run_exact(
     else:
         shares = variance_shares(study)
         how = "too few samples to regress: linear-model variance shares"
-    i = worst_angle(eq[0], eq[2], None)
+    i = worst_angle(eq[0], eq[2], band)
     contributions = tuple(
         sorted(
             (Contribution(k, float(v[i])) for k, v in shares.items()),

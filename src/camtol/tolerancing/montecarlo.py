@@ -30,6 +30,7 @@ from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 from camtol.kinematics import analysis_grid
 from camtol.tolerancing import linear as lin
+from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
 from camtol.tolerancing.model import StatisticalModel, statistical_model
 from camtol.tolerancing.plan import (
     CHUNK,
@@ -223,7 +224,7 @@ def monte_carlo(
     seed: int = 0,
     model: StatisticalModel | None = None,
     spec: float | None = None,
-    band: tuple[FloatArray, FloatArray] | None = None,
+    band: ToleranceBand | tuple[FloatArray, FloatArray] | None = None,
     quantities: tuple[Quantity, ...] = ("lift",),
     step_deg: float = 0.1,
     chunks_per_task: int = 4,
@@ -247,9 +248,10 @@ def monte_carlo(
         Distributions; default the design's ``[statistics]`` table or normal Cp = 1.
     spec : float, optional
         Spec on max_θ |ΔS|, for the yield. [mm, or rad for an oscillating follower]
-    band : (ndarray, ndarray), optional
-        Lower and upper limit curves of ΔS on the study's grid (linear mode).
-        [mm or rad]
+    band : ToleranceBand or (ndarray, ndarray), optional
+        Lower and upper limits of ΔS, for the yield "lower ≤ ΔS ≤ upper at every angle"
+        (instead of ``spec``): a :class:`~camtol.tolerancing.band.ToleranceBand`
+        (interpolated onto the grid) or two curves on the study's grid. [mm or rad]
     quantities : tuple of {"lift", "velocity", "acceleration"}
         Statistics wanted; ``lift`` is always included.
     step_deg : float
@@ -268,7 +270,8 @@ def monte_carlo(
     Raises
     ------
     DesignError
-        Bad number of samples, mode or model.
+        Bad number of samples, mode or model; both ``spec`` and ``band``; a band of the
+        wrong length or not finite.
     """
     if mode not in ("linear", "exact"):
         raise DesignError(f"mode={mode!r} is unknown; allowed: linear, exact")
@@ -276,26 +279,27 @@ def monte_carlo(
         raise DesignError(f"seed={seed!r} is not allowed; give a whole number ≥ 0")
     if spec is not None and not (math.isfinite(spec) and spec > 0):
         raise DesignError(f"spec={spec!r} is not allowed; it must be > 0")
+    if spec is not None and band is not None:
+        raise DesignError("give spec (on max |ΔS|) or band (lower/upper curves), not both")
     study = prepare(design, model=model, step_deg=step_deg)
     _check_samples(samples, mode, study.theta_rad.size)
+    curves = None
+    band_text = ""
+    if band is not None:
+        curves = band_curves(band, study.theta_rad, require_nominal=False)
+        band_text = f"lower <= dS <= upper at every angle, band {band_label(band)}"
     qs = ("lift", *(q for q in quantities if q != "lift"))
     if mode == "exact":
         from camtol.tolerancing.exact import run_exact
 
-        for name, value in (("band", band), ("scheduler", scheduler)):
-            if value is not None:
-                raise DesignError(f"{name} is supported in linear mode only (mode='exact')")
+        if scheduler is not None:
+            raise DesignError("scheduler is supported in linear mode only (mode='exact')")
         if len(qs) > 1:
             raise DesignError("ΔV and ΔA statistics are supported in linear mode only")
 
-        return run_exact(study, int(samples), int(seed), spec, progress)
-    if band is not None:
-        lo_b, hi_b = (np.asarray(b, dtype=float) for b in band)
-        if lo_b.shape != study.theta_rad.shape or hi_b.shape != study.theta_rad.shape:
-            raise DesignError(
-                f"band: the curves need {study.theta_rad.size} values (one per grid angle)"
-            )
-        band = (lo_b, hi_b)
+        return run_exact(
+            study, int(samples), int(seed), spec, progress, band=curves, band_text=band_text
+        )
     lower, width, top = _ranges(study)
     lspec = lin.LinearSpec(
         seed=int(seed),
@@ -307,7 +311,7 @@ def monte_carlo(
         max_top={q: top[q] for q in qs},
         label_top=_label_tops(study),
         spec=spec,
-        band=band,
+        band=curves,
     )
     totals = _execute(
         lspec,
@@ -316,7 +320,7 @@ def monte_carlo(
         scheduler=scheduler,
         progress=progress,
     )
-    return _linear_result(study, lspec, totals, band)
+    return _linear_result(study, lspec, totals, curves, band_text)
 
 
 def _summary_from_hist(counts: lin.IntArray, top: float, mean: float, std: float) -> Summary:
@@ -384,6 +388,7 @@ def _linear_result(
     spec: lin.LinearSpec,
     totals: lin.LinearTotals,
     band: tuple[FloatArray, FloatArray] | None,
+    band_text: str = "lower <= dS <= upper at every angle",
 ) -> MonteCarloResult:
     n_tot, xmean, cov, max_stats = lin.fold_moments(totals, list(spec.sens))
     stats: dict[str, AngleStatistics] = {}
@@ -414,7 +419,7 @@ def _linear_result(
             totals.passed_spec, n_tot, f"max |dS| <= {spec.spec * study.scale:g} {study.unit}"
         )
     elif band is not None:
-        y = YieldEstimate.of(totals.passed_band, n_tot, "lower <= dS <= upper at every angle")
+        y = YieldEstimate.of(totals.passed_band, n_tot, band_text)
     shares = variance_shares(study)
     i = worst_angle(lift.q00135 / study.scale, lift.q99865 / study.scale, band)
     contributions = tuple(
