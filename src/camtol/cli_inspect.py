@@ -370,11 +370,23 @@ def inspect(
         for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
             if wanted is not None and func is None:
                 fail(f"{opt}: the follower error could not be computed (see the warning)")
-        record_curve = None
+        prepared = None
         if store is not None:  # refuse a scan too sparse to record before writing anything
-            from camtol.cli_records import cmm_record_curve
+            from camtol.cli_records import cmm_record, cmm_record_curve
 
-            record_curve = cmm_record_curve(insp, n_record)
+            prepared = cmm_record(
+                store_opts,
+                d,
+                design,
+                example,
+                cam=cam if len(d.cams()) > 1 else "",
+                dr_um=cmm_record_curve(insp, n_record),
+                verdict=str(data["verdict"]),
+                tolerance_um=insp.tolerance_um,
+                max_abs_ds_um=None
+                if func is None
+                else func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6),
+            )
         fig = None
         if plot or report_path:
             from camtol.report.inspection_plots import inspection_figure
@@ -397,23 +409,10 @@ def inspect(
                 report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp"))
             )
         record_id = None
-        if store is not None and record_curve is not None:  # after every output file
-            from camtol.cli_records import store_cmm_record
+        if store is not None and prepared is not None:  # after every output file
+            from camtol.cli_records import add_records
 
-            record_id = store_cmm_record(
-                store,
-                store_opts,
-                d,
-                design,
-                example,
-                cam=cam if len(d.cams()) > 1 else "",
-                dr_um=record_curve,
-                verdict=str(data["verdict"]),
-                tolerance_um=insp.tolerance_um,
-                max_abs_ds_um=None
-                if func is None
-                else func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6),
-            )
+            record_id = add_records(store, *prepared)[0]
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:

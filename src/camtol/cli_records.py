@@ -28,7 +28,9 @@ __all__ = [
     "check_store_options",
     "cmm_record_curve",
     "records",
-    "store_cmm_record",
+    "add_records",
+    "cmm_record",
+    "fixture_records",
     "store_fixture_records",
     "store_options",
 ]
@@ -402,8 +404,7 @@ def cmm_record_curve(insp: Any, n_points: int) -> Any:
     return scan_on_grid(insp.theta_deg[kept], insp.dr_um[kept], n_points, source=insp.source)
 
 
-def store_cmm_record(
-    location: str,
+def cmm_record(
     opts: dict[str, str | None],
     design: Any,
     design_path: str | None,
@@ -414,13 +415,11 @@ def store_cmm_record(
     verdict: str,
     tolerance_um: tuple[float, float],
     max_abs_ds_um: float | None,
-) -> int:
-    """Record one CMM-inspected cam (``camtol inspect --store``) in one transaction.
+) -> tuple[list[InspectionRecord], str]:
+    """Build (and validate) the record of a CMM-inspected cam for ``camtol inspect --store``.
 
     Parameters
     ----------
-    location : str
-        The store (path or URL).
     opts : dict
         The options of :func:`store_options`.
     design : CamDesign
@@ -440,23 +439,48 @@ def store_cmm_record(
 
     Returns
     -------
-    int
-        The record's id.
+    (list of InspectionRecord, str)
+        The record (not stored yet; see :func:`add_records`) and the design text.
     """
-    from camtol.inspection.store import record_inspection
+    from camtol.inspection.store import design_identity, make_record
 
-    return record_inspection(
-        location,
-        design,
+    text = _design_text(design_path, example)
+    name, digest = design_identity(design, text)
+    rec = make_record(
+        design_name=name,
+        design_hash=digest,
         method="cmm",
         cam=cam,
         dr_um=dr_um,
         verdict=verdict,
         tolerance_um=tolerance_um,
         traceability=_traceability(opts),
-        design_text=_design_text(design_path, example),
         max_abs_ds_um=max_abs_ds_um,
     )
+    return [rec], text
+
+
+def add_records(location: str, recs: Sequence[InspectionRecord], design_text: str) -> list[int]:
+    """Store records built by :func:`cmm_record` or :func:`fixture_records` in one transaction.
+
+    Parameters
+    ----------
+    location : str
+        The store (path or URL).
+    recs : sequence of InspectionRecord
+        The records.
+    design_text : str
+        The design's TOML text.
+
+    Returns
+    -------
+    list of int
+        Their ids; on any error nothing is stored (:class:`~camtol.exceptions.RecordError`).
+    """
+    from camtol.inspection.store import open_store
+
+    with open_store(location) as store:
+        return store.add_all(recs, design_text=design_text)
 
 
 def store_fixture_records(
@@ -470,10 +494,28 @@ def store_fixture_records(
 ) -> list[int]:
     """Record cams A and B of a fixture inspection in one transaction.
 
+    :func:`fixture_records` then :func:`add_records`; the parameters are theirs.
+
+    Returns
+    -------
+    list of int
+        The ids of the records of A and B.
+    """
+    return add_records(location, *fixture_records(opts, design, design_path, example, res, spec))
+
+
+def fixture_records(
+    opts: dict[str, str | None],
+    design: Any,
+    design_path: str | None,
+    example: str | None,
+    res: Any,
+    spec: Any,
+) -> tuple[list[InspectionRecord], str]:
+    """Build (and validate) the records of cams A and B of a fixture inspection.
+
     Parameters
     ----------
-    location : str
-        The store (path or URL).
     opts : dict
         The options of :func:`store_options`.
     design : CamDesign
@@ -487,8 +529,9 @@ def store_fixture_records(
 
     Returns
     -------
-    list of int
-        The ids of the records of A and B.
+    (list of InspectionRecord, str)
+        The records of A and B (not stored yet; see :func:`add_records`) and the design
+        text.
     """
     from camtol.inspection.store import design_identity, make_record
 
@@ -516,7 +559,4 @@ def store_fixture_records(
             ("B", res.estimate.dr_b_est_um, spec.tolerance_b_um),
         )
     ]
-    from camtol.inspection.store import open_store
-
-    with open_store(location) as store:
-        return store.add_all(recs, design_text=text)
+    return recs, text

@@ -319,3 +319,33 @@ def test_store_failure_mid_insert_stores_nothing_and_leaves_complete_outputs(
     assert curves.read_text() == ok.read_text()  # complete, as without --store
     assert _inspect(scan, store_url, "-q") in (0, 1)  # the store takes the next record
     assert _count(store_url) == 1
+
+
+def test_conjugate_store_is_checked_before_and_written_after_its_outputs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`conjugate --store` follows the same order as `inspect --store`."""
+    url = str(tmp_path / "r.db")
+    curves = tmp_path / "c.csv"
+    base = ["conjugate", "-e", EX, "--step", "1", "--curves", str(curves), "--store", url]
+    assert main(base) == 2  # no measured Δf: nothing to record, refused before any output
+    assert "give the measured Δf" in _one_line_error(capsys)
+    assert not curves.exists() and _count(url) == 0
+    order: list[str] = []
+    import camtol.cli_conjugate as cc
+    import camtol.report.conjugate as rc
+
+    write, add = rc.write_fixture_curves_csv, cc.add_records
+
+    def spy_write(*a: Any, **k: Any) -> None:
+        order.append("curves")
+        write(*a, **k)
+
+    def spy_add(*a: Any, **k: Any) -> list[int]:
+        order.append("store")
+        return add(*a, **k)
+
+    monkeypatch.setattr(rc, "write_fixture_curves_csv", spy_write)
+    monkeypatch.setattr(cc, "add_records", spy_add)
+    assert main([*base, "--df-mea", "20", "-q"]) in (0, 1)
+    assert order == ["curves", "store"] and _count(url) == 2
