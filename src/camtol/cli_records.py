@@ -349,6 +349,17 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
 
     The store is opened (created on first use, its schema version checked) and closed
     again, so that an unreachable or too new store stops the command before the analysis.
+    The traceability texts (at most 200 characters, no NUL) and the date are checked too.
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`store_options` (``store_store``, ``store_part``, ...).
+
+    Returns
+    -------
+    str or None
+        The store's location, None without ``--store``.
     """
     given = [k for k, v in opts.items() if v is not None and k != "store_store"]
     location = opts.get("store_store")
@@ -494,7 +505,22 @@ def store_fixture_records(
 ) -> list[int]:
     """Record cams A and B of a fixture inspection in one transaction.
 
-    :func:`fixture_records` then :func:`add_records`; the parameters are theirs.
+    :func:`fixture_records` then :func:`add_records`.
+
+    Parameters
+    ----------
+    location : str
+        The store (path or URL).
+    opts : dict
+        The options of :func:`store_options`.
+    design : CamDesign
+        The inspected design.
+    design_path, example : str or None
+        Where the design came from (its TOML text is hashed and stored).
+    res : FixtureInspection
+        The fixture analysis, with a measurement.
+    spec : FixtureSpec
+        The inspection spec (tolerances of cams A and B).
 
     Returns
     -------
