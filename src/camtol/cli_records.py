@@ -334,6 +334,8 @@ def _traceability(opts: dict[str, str | None]) -> Any:
             at = datetime.fromisoformat(when.replace("Z", "+00:00"))
         except ValueError:
             fail(f"--inspected-at={when!r}: allowed ISO 8601, e.g. 2026-11-23T12:00:00+00:00")
+        if at.tzinfo is None:
+            fail(f"--inspected-at={when!r}: give a time zone, e.g. 2026-11-23T12:00:00+00:00")
     return Traceability(
         part_number=opts.get("store_part") or "",
         serial=opts.get("store_serial") or "",

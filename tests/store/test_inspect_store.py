@@ -244,6 +244,7 @@ def test_scan_on_grid_rule() -> None:
         (["--inspected-at", "yesterday"], "--inspected-at='yesterday': allowed ISO 8601"),
         (["--serial", "9" * 201], "--serial='99999999999999999999'... (201 characters)"),
         (["--lot", "a\x00b"], "with a NUL"),
+        (["--inspected-at", "2026-11-23T08:00:00"], "give a time zone"),
     ],
 )
 def test_bad_traceability_is_refused_before_any_output(
