@@ -1,9 +1,11 @@
 """Invocations whose ``--json`` output tests/test_json_schemas.py validates (issue 13 item 6).
 
 Each command with a ``--json`` flag needs at least one entry here and a schema file
-``src/camtol/data/schemas/<command>.schema.json``. ``{tmp}`` is a scratch directory,
-``{scan}`` a simulated CMM scan of cam B of cw11-experiment and ``{band}`` a tolerance band
-(theta_deg, lower_um, upper_um).
+``src/camtol/data/schemas/<command>.schema.json`` (a subcommand ``records list``:
+``records-list.schema.json``). ``{tmp}`` is a scratch directory, ``{scan}`` a simulated CMM
+scan of cam B of cw11-experiment, ``{band}`` a tolerance band (theta_deg, lower_um,
+upper_um) and ``{store}`` an inspection store holding two CMM records of that scan and a
+fixture record of cams A and B.
 """
 
 from __future__ import annotations
@@ -73,6 +75,16 @@ INVOCATIONS: dict[str, list[list[str]]] = {
             "--json",
         ]
     ],
+    "records list": [
+        ["records", "list", "--store", "{store}", "--json"],
+        ["records", "list", "--store", "{store}", "--method", "cmm", "--json"],
+    ],
+    "records show": [["records", "show", "1", "--store", "{store}", "--json"]],
+    "records stats": [
+        ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--json"]
+        + ["--cam", cam]
+        for cam in ("B", "A")
+    ],
 }
 
 
@@ -91,4 +103,18 @@ def prepare(tmp: str) -> dict[str, str]:
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
     band = Path(tmp) / "band.csv"
     band.write_text("theta_deg,lower_um,upper_um\n0,-25,40\n180,-30,30\n")
-    return {"tmp": tmp, "scan": str(scan), "band": str(band)}
+    subs = {"tmp": tmp, "scan": str(scan), "band": str(band)}
+    store = Path(tmp) / "records.db"
+    subs["store"] = str(store)
+    try:
+        import sqlalchemy  # noqa: F401
+    except ImportError:  # the records invocations are skipped without camtol[store]
+        return subs
+    for serial in ("1", "2"):  # two CMM records of cam B and a fixture record of A and B
+        insp = ["inspect", "-e", "cw11-experiment", "--points", str(scan), "--cam", "B"]
+        opts = ["--stylus-radius-mm", "1", "--store", str(store), "--serial", serial, "-q"]
+        assert main([*insp, *opts, "--lot", "L1"]) in (0, 1)
+    fixture = ["conjugate", "-e", "cw11-experiment", "--df-mea", "20", "--step", "1", "-q"]
+    fixture += ["--store", str(store)]
+    assert main([*fixture, "--serial", "3", "--lot", "L1"]) in (0, 1)
+    return subs

@@ -25,7 +25,7 @@ from camtol.cli import (
     run_guarded,
 )
 from camtol.cli_inspection_options import decision_option
-from camtol.cli_records import check_store_options, store_fixture_records, store_options
+from camtol.cli_records import add_records, check_store_options, fixture_records, store_options
 
 if TYPE_CHECKING:  # pragma: no cover
     pass
@@ -224,9 +224,9 @@ def conjugate(
             run.decision,
             run.comparison,
         )
-        stored = []
+        prepared = None  # the records are checked before any output and stored after them
         if store is not None:
-            stored = store_fixture_records(store, store_opts, d, design, example, res, spec)
+            prepared = fixture_records(store_opts, d, design, example, res, spec)
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
@@ -257,6 +257,7 @@ def conjugate(
                 cmm_fixture_figure(comparison).savefig(
                     tmp, format=Path(cmm_plot).suffix.lstrip(".").lower()
                 )
+        stored = [] if prepared is None else add_records(store or "", *prepared)
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}

@@ -23,6 +23,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
+from camtol.cli_records import check_store_options, store_options
 
 if TYPE_CHECKING:
     from camtol.design import CamDesign
@@ -274,6 +275,7 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 @click.option("--plot", metavar="FILE.png", help="Write the inspection figure (PNG/SVG/PDF).")
 @click.option("--report", "report_path", metavar="FILE.html", help="Write an HTML report.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
+@store_options
 def inspect(
     design: str | None,
     example: str | None,
@@ -297,6 +299,7 @@ def inspect(
     plot: str | None,
     report_path: str | None,
     quiet: bool,
+    **store_opts: str | None,
 ) -> None:
     """Inspect a machined cam from CMM points: registration, deviations, follower error.
 
@@ -306,6 +309,10 @@ def inspect(
     profile tolerance with the failing angles, and the follower's motion error on the
     measured cam (exact, and linear from Δn), judged against the motion spec
     (--spec-um/--spec-deg) when given. Exit status 1 when the cam fails either.
+
+    With --store DB the inspected cam is recorded in an inspection store with the
+    traceability options (see `camtol records`): its Δr resampled onto the --step grid,
+    refused when the scan has a gap wider than 5 grid steps (docs/cmm-inspection.md).
     """
 
     def body() -> int:
@@ -319,6 +326,12 @@ def inspect(
         if tolerance is not None:
             lo, hi = parse_numbers(tolerance, 2, "--tolerance-um", "LOWER,UPPER in µm")
             tol = (lo, hi)
+        store = check_store_options(store_opts)
+        n_record = 0
+        if store is not None:
+            from camtol.grid import check_step
+
+            n_record = check_step(step_deg, name="--step", min_points=4)
         from camtol.exceptions import GeometryError
         from camtol.inspection.cmm import read_scan
         from camtol.inspection.deviations import cam_profile, inspect_scan
@@ -357,6 +370,23 @@ def inspect(
         for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
             if wanted is not None and func is None:
                 fail(f"{opt}: the follower error could not be computed (see the warning)")
+        prepared = None
+        if store is not None:  # refuse a scan too sparse to record before writing anything
+            from camtol.cli_records import cmm_record, cmm_record_curve
+
+            prepared = cmm_record(
+                store_opts,
+                d,
+                design,
+                example,
+                cam=cam if len(d.cams()) > 1 else "",
+                dr_um=cmm_record_curve(insp, n_record),
+                verdict=str(data["verdict"]),
+                tolerance_um=insp.tolerance_um,
+                max_abs_ds_um=None
+                if func is None
+                else func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6),
+            )
         fig = None
         if plot or report_path:
             from camtol.report.inspection_plots import inspection_figure
@@ -378,6 +408,11 @@ def inspect(
             atomic_write(
                 report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp"))
             )
+        record_id = None
+        if store is not None and prepared is not None:  # after every output file
+            from camtol.cli_records import add_records
+
+            record_id = add_records(store, *prepared)[0]
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
@@ -385,6 +420,8 @@ def inspect(
         elif not quiet:
             for line in rep.inspection_text(data):
                 click.echo(line)
+        if record_id is not None and not quiet:
+            click.echo(f"recorded as id {record_id}", err=as_json)
         return EXIT_OK if data["verdict"] == "pass" else EXIT_FAIL
 
     raise _Exit(run_guarded(body))

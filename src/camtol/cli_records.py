@@ -24,7 +24,16 @@ if TYPE_CHECKING:
     from camtol.inspection.lots import LotStatistics
     from camtol.inspection.store import InspectionRecord, InspectionStore
 
-__all__ = ["records", "store_options", "store_fixture_records"]
+__all__ = [
+    "check_store_options",
+    "cmm_record_curve",
+    "records",
+    "add_records",
+    "cmm_record",
+    "fixture_records",
+    "store_fixture_records",
+    "store_options",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -62,12 +71,24 @@ def _cam_filter(cam: str | None) -> str | None:
     return None if cam is None else ("" if cam == "single" else cam)
 
 
+_METHOD_OPTION = click.option(
+    "--method",
+    type=click.Choice(["cmm", "conjugate-fixture"]),
+    help="Only records of this inspection method (default: every method).",
+)
+
+
+def _of_method(recs: list[InspectionRecord], method: str | None) -> list[InspectionRecord]:
+    return recs if method is None else [r for r in recs if r.method == method]
+
+
 @click.group()
 def records() -> None:
     """Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).
 
-    Records are written by `camtol conjugate --store DB` (one per inspected cam). DB is a
-    SQLite file, sqlite:///FILE.db or postgresql+psycopg://user@host:port/database.
+    Records are written by `camtol conjugate --store DB` (cams A and B of a fixture
+    inspection) and `camtol inspect --store DB` (a CMM scan), one per inspected cam. DB is
+    a SQLite file, sqlite:///FILE.db or postgresql+psycopg://user@host:port/database.
     """
 
 
@@ -78,17 +99,23 @@ def records() -> None:
 @click.option(
     "--cam", type=click.Choice(["A", "B", "single"]), help="Only this cam (single: not a pair)."
 )
+@_METHOD_OPTION
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON.")
 def list_records(
-    store: str, design: str | None, lot: str | None, cam: str | None, as_json: bool
+    store: str,
+    design: str | None,
+    lot: str | None,
+    cam: str | None,
+    method: str | None,
+    as_json: bool,
 ) -> None:
     """List inspection records, oldest first: id, time, design, cam, part, verdict, figures."""
 
     def body() -> int:
         with _open_existing(store) as s:
-            recs = s.records(design=design, lot=lot, cam=_cam_filter(cam))
+            recs = _of_method(s.records(design=design, lot=lot, cam=_cam_filter(cam)), method)
         if as_json:
-            echo_json({"records": [r.summary() for r in recs]})
+            echo_json({"records": [r.summary() for r in recs]}, command="records list")
             return EXIT_OK
         click.echo(
             f"{'id':>5} {'inspected_at (UTC)':19} {'design':18} {'cam':3} {'part':12}"
@@ -121,7 +148,10 @@ def show_record(record_id: int, store: str, as_json: bool, curves: str | None) -
         if curves:
             _write_csv(curves, ["theta_deg", "dr_um"], [rec.theta_deg, rec.dr_um])
         if as_json:
-            echo_json(rec.summary())
+            data = rec.summary()
+            # the envelope's camtol_version is this camtol's; the record's is kept beside it
+            data["record_camtol_version"] = rec.camtol_version
+            echo_json(data, command="records show")
         else:
             for key, value in rec.summary().items():
                 click.echo(f"{key:16} {'' if value is None else value}")
@@ -151,9 +181,11 @@ def _stats_json(
         "lot": lot,
         "cam": recs[0].cam,
         "design_hashes": sorted({r.design_hash for r in recs}),
+        "methods": sorted({r.method for r in recs}),
         "record_ids": [r.id for r in recs],
         "n_parts": st.n_parts,
         "n_points": int(st.theta_deg.size),
+        "record_n_points": sorted({r.n_points for r in recs}),
         "tolerance_um": list(st.tolerance_um),
         "mean_of_max_um": float(st.part_max_um.mean()),
         "mean_of_min_um": float(st.part_min_um.mean()),
@@ -190,6 +222,7 @@ def _stats_json(
     show_default=True,
     help="Confidence level of the failing fraction's interval (Clopper-Pearson).",
 )
+@_METHOD_OPTION
 @click.option("--json", "as_json", is_flag=True, help="Print the statistics as JSON.")
 @click.option(
     "--curves",
@@ -201,6 +234,7 @@ def stats(
     design: str,
     lot: str | None,
     cam: str | None,
+    method: str | None,
     confidence: float,
     as_json: bool,
     curves: str | None,
@@ -215,7 +249,9 @@ def stats(
 
         with _open_existing(store) as s:
             recs = s.records(design=design, lot=lot, cam=_cam_filter(cam), with_curves=True)
+        recs = _of_method(recs, method)
         where = f"--design={design!r}" + ("" if lot is None else f" --lot={lot!r}")
+        where += "" if method is None else f" --method={method}"
         if not recs:
             fail(f"{where}: no records match in the store (see `camtol records list`)")
         cams = sorted({r.cam or "single" for r in recs})
@@ -243,7 +279,7 @@ def stats(
             )
         out = _stats_json(st, recs, basis, design, lot)
         if as_json:
-            echo_json(out)
+            echo_json(out, command="records stats")
         else:
             for key, value in out.items():
                 if key != "record_ids":
@@ -298,6 +334,8 @@ def _traceability(opts: dict[str, str | None]) -> Any:
             at = datetime.fromisoformat(when.replace("Z", "+00:00"))
         except ValueError:
             fail(f"--inspected-at={when!r}: allowed ISO 8601, e.g. 2026-11-23T12:00:00+00:00")
+        if at.tzinfo is None:
+            fail(f"--inspected-at={when!r}: give a time zone, e.g. 2026-11-23T12:00:00+00:00")
     return Traceability(
         part_number=opts.get("store_part") or "",
         serial=opts.get("store_serial") or "",
@@ -313,6 +351,17 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
 
     The store is opened (created on first use, its schema version checked) and closed
     again, so that an unreachable or too new store stops the command before the analysis.
+    The traceability texts (at most 200 characters, no NUL) and the date are checked too.
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`store_options` (``store_store``, ``store_part``, ...).
+
+    Returns
+    -------
+    str or None
+        The store's location, None without ``--store``.
     """
     given = [k for k, v in opts.items() if v is not None and k != "store_store"]
     location = opts.get("store_store")
@@ -321,11 +370,130 @@ def check_store_options(opts: dict[str, str | None]) -> str | None:
             flag = "--" + given[0].removeprefix("store_").replace("_", "-")
             fail(f"{flag} describes the part for the store: give --store DB as well")
         return None
+    for key, value in opts.items():  # the store's rule for text fields, before any work
+        if key not in ("store_store", "store_inspected_at") and value is not None:
+            if len(value) > 200 or "\x00" in value:
+                flag = "--" + key.removeprefix("store_").replace("_", "-")
+                what = f"{len(value)} characters" + (", with a NUL" if "\x00" in value else "")
+                fail(
+                    f"{flag}={value[:20]!r}... ({what}): allowed text of at most 200 characters"
+                    " without NUL"
+                )
     _traceability(opts)  # validate the date before the analysis
     from camtol.inspection.store import open_store
 
     open_store(location).close()
     return location
+
+
+def _design_text(design_path: str | None, example: str | None) -> str:
+    """Return the TOML text the command read: the built-in example's or the design file's."""
+    if example is not None:
+        from camtol.examples import example_text
+
+        return example_text(example)
+    return Path(str(design_path)).read_text(encoding="utf-8")
+
+
+def cmm_record_curve(insp: Any, n_points: int) -> Any:
+    """Return a CMM inspection's record curve: Δr of the points kept on θ_j = 360° j / n.
+
+    Parameters
+    ----------
+    insp : CmmInspection
+        The inspection (outliers are left out).
+    n_points : int
+        Points of the grid (360 / --step).
+
+    Returns
+    -------
+    ndarray
+        Δr on the grid [µm]; refused (:class:`~camtol.exceptions.RecordError`, exit 2) when
+        the scan has a gap wider than :data:`~camtol.inspection.lots.MAX_GAP_STEPS` steps.
+    """
+    from camtol.inspection.lots import scan_on_grid
+
+    kept = insp.kept
+    return scan_on_grid(insp.theta_deg[kept], insp.dr_um[kept], n_points, source=insp.source)
+
+
+def cmm_record(
+    opts: dict[str, str | None],
+    design: Any,
+    design_path: str | None,
+    example: str | None,
+    *,
+    cam: str,
+    dr_um: Any,
+    verdict: str,
+    tolerance_um: tuple[float, float],
+    max_abs_ds_um: float | None,
+) -> tuple[list[InspectionRecord], str]:
+    """Build (and validate) the record of a CMM-inspected cam for ``camtol inspect --store``.
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`store_options`.
+    design : CamDesign
+        The design the scan was checked against.
+    design_path, example : str or None
+        Where the design came from (its TOML text is hashed and stored).
+    cam : {"A", "B", ""}
+        The cam of a conjugate pair, "" for a single cam.
+    dr_um : ndarray
+        Δr on θ_j = 360° j / n (:func:`cmm_record_curve`). [µm]
+    verdict : {"pass", "fail"}
+        The inspection's overall verdict (profile tolerance and motion spec).
+    tolerance_um : tuple of float
+        The profile tolerance of that verdict. [µm]
+    max_abs_ds_um : float or None
+        Max |ΔS| of the measured follower motion (µm, or µrad for a swing).
+
+    Returns
+    -------
+    (list of InspectionRecord, str)
+        The record (not stored yet; see :func:`add_records`) and the design text.
+    """
+    from camtol.inspection.store import design_identity, make_record
+
+    text = _design_text(design_path, example)
+    name, digest = design_identity(design, text)
+    rec = make_record(
+        design_name=name,
+        design_hash=digest,
+        method="cmm",
+        cam=cam,
+        dr_um=dr_um,
+        verdict=verdict,
+        tolerance_um=tolerance_um,
+        traceability=_traceability(opts),
+        max_abs_ds_um=max_abs_ds_um,
+    )
+    return [rec], text
+
+
+def add_records(location: str, recs: Sequence[InspectionRecord], design_text: str) -> list[int]:
+    """Store records built by :func:`cmm_record` or :func:`fixture_records` in one transaction.
+
+    Parameters
+    ----------
+    location : str
+        The store (path or URL).
+    recs : sequence of InspectionRecord
+        The records.
+    design_text : str
+        The design's TOML text.
+
+    Returns
+    -------
+    list of int
+        Their ids; on any error nothing is stored (:class:`~camtol.exceptions.RecordError`).
+    """
+    from camtol.inspection.store import open_store
+
+    with open_store(location) as store:
+        return store.add_all(recs, design_text=design_text)
 
 
 def store_fixture_records(
@@ -338,6 +506,8 @@ def store_fixture_records(
     spec: Any,
 ) -> list[int]:
     """Record cams A and B of a fixture inspection in one transaction.
+
+    :func:`fixture_records` then :func:`add_records`.
 
     Parameters
     ----------
@@ -359,6 +529,38 @@ def store_fixture_records(
     list of int
         The ids of the records of A and B.
     """
+    return add_records(location, *fixture_records(opts, design, design_path, example, res, spec))
+
+
+def fixture_records(
+    opts: dict[str, str | None],
+    design: Any,
+    design_path: str | None,
+    example: str | None,
+    res: Any,
+    spec: Any,
+) -> tuple[list[InspectionRecord], str]:
+    """Build (and validate) the records of cams A and B of a fixture inspection.
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`store_options`.
+    design : CamDesign
+        The inspected design.
+    design_path, example : str or None
+        Where the design came from (its TOML text is hashed and stored).
+    res : FixtureInspection
+        The fixture analysis, with a measurement.
+    spec : FixtureSpec
+        The inspection spec (tolerances of cams A and B).
+
+    Returns
+    -------
+    (list of InspectionRecord, str)
+        The records of A and B (not stored yet; see :func:`add_records`) and the design
+        text.
+    """
     from camtol.inspection.store import design_identity, make_record
 
     if res.estimate is None:
@@ -366,12 +568,7 @@ def store_fixture_records(
             "--store records an inspection: give the measured Δf (--record, --df-mea or"
             " inspection.df_mea_um)"
         )
-    if example is not None:
-        from camtol.examples import example_text
-
-        text = example_text(example)
-    else:
-        text = Path(str(design_path)).read_text(encoding="utf-8")
+    text = _design_text(design_path, example)
     name, digest = design_identity(design, text)
     trace = _traceability(opts)
     recs = [
@@ -390,7 +587,4 @@ def store_fixture_records(
             ("B", res.estimate.dr_b_est_um, spec.tolerance_b_um),
         )
     ]
-    from camtol.inspection.store import open_store
-
-    with open_store(location) as store:
-        return store.add_all(recs, design_text=text)
+    return recs, text

@@ -28,7 +28,20 @@ import numpy.typing as npt
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
 
-__all__ = ["LotStatistics", "deviation_on_grid", "lot_statistics", "resample_periodic"]
+__all__ = [
+    "MAX_GAP_STEPS",
+    "LotStatistics",
+    "deviation_on_grid",
+    "largest_polar_gap",
+    "lot_statistics",
+    "resample_periodic",
+    "scan_on_grid",
+]
+
+#: A scan is resampled onto a grid of step h only when no two neighbouring points (by
+#: polar angle, across 0°/360° too) are more than this many grid steps apart: linear
+#: interpolation then fills at most 4 grid values between two measured points.
+MAX_GAP_STEPS = 5.0
 
 
 @dataclass(frozen=True)
@@ -151,6 +164,79 @@ def deviation_on_grid(theta_deg: npt.ArrayLike, dr_um: npt.ArrayLike, n_points: 
         )
     grid = np.arange(n_points) * (360.0 / n_points)
     return np.asarray(np.interp(grid, np.mod(t, 360.0), v, period=360.0))
+
+
+def largest_polar_gap(theta_deg: npt.ArrayLike) -> tuple[float, float]:
+    """Largest angular gap between neighbouring polar angles, across 0°/360° too.
+
+    Parameters
+    ----------
+    theta_deg : array_like
+        Polar angles, any order, any range (taken modulo 360°); at least one. [deg]
+
+    Returns
+    -------
+    (float, float)
+        The gap and the angle where it starts, in [0, 360). [deg, deg]
+    """
+    phi = np.sort(np.mod(np.asarray(theta_deg, dtype=np.float64).ravel(), 360.0))
+    if phi.size == 0:
+        return 360.0, 0.0
+    gaps = np.diff(np.append(phi, phi[0] + 360.0))
+    k = int(np.argmax(gaps))
+    return float(gaps[k]), float(phi[k])
+
+
+def scan_on_grid(
+    theta_deg: npt.ArrayLike,
+    dr_um: npt.ArrayLike,
+    n_points: int,
+    *,
+    source: str = "scan",
+    max_gap_steps: float = MAX_GAP_STEPS,
+) -> FloatArray:
+    """Put a CMM scan's radial deviations on the record grid θ_j = 360° j / n, or refuse.
+
+    The honest-resampling rule: the largest gap between neighbouring measured polar angles
+    (periodic) must not exceed ``max_gap_steps`` grid steps 360°/n; the deviations are then
+    interpolated linearly and periodically (:func:`deviation_on_grid`), so that every grid
+    value lies within that many steps of a measured point on either side.
+
+    Parameters
+    ----------
+    theta_deg : array_like
+        Polar angles of the measured points in the cam frame (outliers removed). [deg]
+    dr_um : array_like
+        Their radial deviations Δr. [µm]
+    n_points : int
+        Points n of the grid.
+    source : str, optional
+        The scan's name, for the message.
+    max_gap_steps : float, optional
+        Largest gap allowed, in grid steps.
+
+    Returns
+    -------
+    ndarray
+        Δr at θ_j, shape (n_points,). [µm]
+
+    Raises
+    ------
+    RecordError
+        A gap wider than ``max_gap_steps`` grid steps (naming its angles and the step that
+        would allow it).
+    """
+    step = 360.0 / n_points if n_points >= 1 else math.inf
+    gap, start = largest_polar_gap(theta_deg)
+    if not gap <= max_gap_steps * step:
+        raise RecordError(
+            f"{source}: cannot record the scan on a {step:g}° grid: no point between polar"
+            f" angles {start:.2f}° and {math.fmod(start + gap, 360.0):.2f}° (a gap of"
+            f" {gap:.3g}°, at most {max_gap_steps:g} grid steps = {max_gap_steps * step:.3g}°"
+            f" allowed); give a coarser --step (≥ {gap / max_gap_steps:.3g}°, dividing 360)"
+            " or a denser scan"
+        )
+    return deviation_on_grid(theta_deg, dr_um, n_points)
 
 
 def _sample_std(x: FloatArray) -> float:
