@@ -57,6 +57,7 @@ CORE = [
     "sizing.py",
     "summary.py",
     "tables.py",
+    "files.py",
     "textfile.py",
     "grid.py",
     "validity.py",
@@ -101,10 +102,6 @@ FORBIDDEN_IN_REPORT = (
 )
 #: Known exceptions, (module, imported name): reason. To be removed, never extended.
 PENDING: dict[tuple[str, str], str] = {
-    ("inspection/record.py", "camtol.report.files"): (
-        "writes its CSV through report.files.atomic_write; the atomic writer belongs in a"
-        " core I/O module (report/files.py is being reworked by issue 9)"
-    ),
     ("report/export.py", "camtol.profile.profile_points"): (
         "write_profile(design, path) samples the profile before writing (convenience kept"
         " for the CLI and callers); the sampling itself is core (camtol.profile)"

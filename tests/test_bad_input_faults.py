@@ -274,7 +274,7 @@ def test_stale_temporaries_of_dead_processes_are_removed(
 
 
 def test_temporary_name_is_recognisable(tmp_path: Path) -> None:
-    from camtol.report.files import atomic_output
+    from camtol.files import atomic_output
 
     with atomic_output(tmp_path / "a.csv") as tmp:
         assert tmp.name.startswith(f".a.csv.camtol-tmp-{os.getpid()}-")
@@ -470,7 +470,7 @@ def test_nul_byte_and_directory_inputs(capsys: pytest.CaptureFixture[str], tmp_p
 
 
 def test_check_writable(tmp_path: Path) -> None:
-    from camtol.report.files import check_writable
+    from camtol.files import check_writable
 
     check_writable(tmp_path / "ok.csv")
     assert list(tmp_path.iterdir()) == []  # the probe file is removed

@@ -120,7 +120,7 @@ def check_output_path(path: str | None, option: str, suffixes: Sequence[str]) ->
     """
     if path is None:
         return
-    from camtol.report.files import check_writable
+    from camtol.files import check_writable
 
     p = Path(path)
     if p.is_dir():
@@ -153,7 +153,7 @@ def guard_paths(inputs: Mapping[str, str | None], outputs: Mapping[str, str | No
     symbolic links and ``..`` (and as the same inode for existing files), so neither a
     link nor a relative detour can make camtol overwrite its own input. Inputs named
     inside a design file (lift tables, inspection tables) are protected at write time by
-    :func:`camtol.report.files.atomic_output`.
+    :func:`camtol.files.atomic_output`.
 
     Parameters
     ----------
@@ -511,7 +511,7 @@ def strict_status(analysis: Any, strict: bool) -> int:
 
 def _save_figure(analysis: Any, path: str, *, cam_angle_deg: float | None = None) -> None:
     from camtol.drawing import analysis_drawing
-    from camtol.report.files import atomic_output
+    from camtol.files import atomic_output
     from camtol.report.finite import require_finite_columns
     from camtol.report.plots import analysis_figure
     from camtol.report.tables import curves_columns

@@ -230,7 +230,7 @@ def conjugate(
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
-            from camtol.report.files import atomic_output
+            from camtol.files import atomic_output
             from camtol.report.finite import require_finite_columns
             from camtol.report.plots import fixture_figure
 
@@ -250,7 +250,7 @@ def conjugate(
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if cmm_plot and comparison is not None:
-            from camtol.report.files import atomic_output
+            from camtol.files import atomic_output
             from camtol.report.inspection_plots import cmm_fixture_figure
 
             with atomic_output(cmm_plot) as tmp:

@@ -397,12 +397,12 @@ def inspect(
         if motion and func is not None:
             rep.write_motion_csv(func, motion)
         if plot and fig is not None:
-            from camtol.report.files import atomic_output
+            from camtol.files import atomic_output
 
             with atomic_output(plot) as tmp:
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if report_path and fig is not None:
-            from camtol.report.files import atomic_write
+            from camtol.files import atomic_write
             from camtol.report.html import figure_svg
 
             atomic_write(

@@ -2,7 +2,7 @@
 
 Registered on the ``camtol`` group by :mod:`camtol.cli`. Exit status 0 on success, 2 on bad
 input (one line on stderr, nothing written). Output files go through
-:func:`camtol.report.files.atomic_write`.
+:func:`camtol.files.atomic_write`.
 """
 
 from __future__ import annotations
@@ -254,10 +254,10 @@ def cut(
     def body() -> int:
         import numpy as np
 
+        from camtol.files import atomic_write
         from camtol.grid import check_step
         from camtol.manufacturing.cutting import coarsest_cut_step, simulate_cut
         from camtol.manufacturing.toolpath import single_cams
-        from camtol.report.files import atomic_write
         from camtol.report.finite import require_finite_columns
 
         steps = _floats(cut_steps_text, "--cut-step")
@@ -410,8 +410,8 @@ def derive(
         import numpy as np
 
         from camtol.exceptions import InputFileError
+        from camtol.files import atomic_write
         from camtol.manufacturing.derivatives import derive_lift
-        from camtol.report.files import atomic_write
         from camtol.report.finite import require_finite_columns
         from camtol.tables import read_table
 

@@ -57,7 +57,7 @@ def _open_existing(location: str) -> InspectionStore:
 def _write_csv(path: str, header: Sequence[str], columns: Sequence[Any]) -> None:
     import numpy as np
 
-    from camtol.report.files import atomic_write
+    from camtol.files import atomic_write
 
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

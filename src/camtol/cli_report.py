@@ -162,8 +162,8 @@ def _write_gcode(
     quiet: bool,
 ) -> int:
     """``camtol profile -o cam.nc``: the cutter-centre path as G-code (THEORY §6)."""
+    from camtol.files import atomic_write
     from camtol.manufacturing.gcode import write_gcode
-    from camtol.report.files import atomic_write
 
     check_output_path(output, "--output", list(GCODE_SUFFIXES))
     if (cutter_radius_mm is None) == (wire_radius_mm is None):

@@ -145,8 +145,8 @@ def simulate_cmm(
                 fail(f"{name}={v!r} must be a finite number")
         if not (math.isfinite(error_rms_um) and error_rms_um >= 0):
             fail(f"--error-rms-um={error_rms_um!r} is not allowed; give a number ≥ 0 µm")
+        from camtol.files import atomic_write
         from camtol.inspection.twin import random_profile_error, scan_csv_text, simulate_scan
-        from camtol.report.files import atomic_write
 
         d = load_input(design, example)
         err = None

@@ -99,7 +99,7 @@ def _plot(result: Any, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from camtol.report.files import atomic_output
+    from camtol.files import atomic_output
 
     s = result.statistics["lift"]
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -228,7 +228,7 @@ def montecarlo(
                 progress=progress,
             )
         if curves:
-            from camtol.report.files import atomic_write
+            from camtol.files import atomic_write
 
             atomic_write(curves, curves_csv(res))
         if plot:

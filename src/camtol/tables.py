@@ -167,7 +167,7 @@ def _read_text(path: Path) -> str:
         raw = path.read_bytes()
         from camtol.textfile import note_input
 
-        note_input(path)  # an output may not replace it (camtol.report.files)
+        note_input(path)  # an output may not replace it (camtol.files)
     except IsADirectoryError:
         raise InputFileError(f"{path}: is a directory, not a table file") from None
     except OSError as exc:

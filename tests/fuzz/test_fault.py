@@ -114,7 +114,7 @@ def test_sigterm_removes_the_live_temporary(tmp_path: Path) -> None:
     """A process terminated while writing removes its temporary file before dying."""
     script = (
         "import sys, time\n"
-        "from camtol.report.files import atomic_output\n"
+        "from camtol.files import atomic_output\n"
         "with atomic_output(sys.argv[1]) as tmp:\n"
         "    tmp.write_text('partial')\n"
         "    print(tmp, flush=True)\n"

@@ -236,7 +236,7 @@ def write_indicator_csv(record: IndicatorRecord, path: str | Path) -> None:
         times) [s], ``df_um`` [µm], ``index`` (0/1); values written with 17 significant
         digits, so reading it back gives the same numbers.
     """
-    from camtol.report.files import atomic_write
+    from camtol.files import atomic_write
 
     cols: list[tuple[str, NDArray[np.str_]]] = []
     if record.time_s is not None:

@@ -15,6 +15,7 @@ import numpy as np
 
 from camtol.design import CamDesign
 from camtol.exceptions import ExportError
+from camtol.files import atomic_write
 from camtol.jet import FloatArray
 from camtol.profile import (
     DEFAULT_TOLERANCE_MM,
@@ -23,7 +24,6 @@ from camtol.profile import (
     profile_points,
     profile_table,
 )
-from camtol.report.files import atomic_write
 
 __all__ = [
     "DEFAULT_TOLERANCE_MM",

@@ -451,7 +451,7 @@ def write_report(
     and renamed into place.
     """
     from camtol.exceptions import ExportError
-    from camtol.report.files import atomic_write
+    from camtol.files import atomic_write
 
     p = Path(path)
     if p.suffix.lower() not in (".html", ".htm"):

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.report.files import atomic_write
+from camtol.files import atomic_write
 
 if TYPE_CHECKING:
     from camtol.inspection.deviations import CmmInspection

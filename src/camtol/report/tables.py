@@ -23,8 +23,8 @@ from camtol import __version__
 from camtol.analysis import Analysis
 from camtol.design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.extremes import Extreme
+from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
-from camtol.report.files import atomic_write
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
@@ -319,7 +319,7 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
 
 
 def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write a text file atomically (see :mod:`camtol.report.files`).
+    """Write a text file atomically (see :mod:`camtol.files`).
 
     Parameters
     ----------
