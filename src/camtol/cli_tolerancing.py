@@ -100,6 +100,7 @@ def _plot(result: Any, path: str) -> None:
     import matplotlib.pyplot as plt
 
     from camtol.files import atomic_output
+    from camtol.report.tolerancing import draw_limits
 
     s = result.statistics["lift"]
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -107,6 +108,7 @@ def _plot(result: Any, path: str) -> None:
     ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
     ax.plot(t, s.mean, label="mean")
     ax.plot(t, s.q50, ":", label="median")
+    draw_limits(ax, result)
     ax.set_xlabel("cam angle θ [deg]")
     ax.set_ylabel(f"ΔS [{s.unit}]")
     ax.set_xlim(0, 360)

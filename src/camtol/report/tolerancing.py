@@ -6,7 +6,7 @@ from typing import Any
 
 from camtol.report.html import _e, _table, figure_svg
 
-__all__ = ["montecarlo_section"]
+__all__ = ["draw_limits", "montecarlo_section"]
 
 
 def montecarlo_section(result: Any) -> str:
@@ -69,6 +69,7 @@ def montecarlo_section(result: Any) -> str:
     t = result.theta_deg
     ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
     ax.plot(t, s.mean, label="mean")
+    draw_limits(ax, result)
     ax.set_xlim(0, 360)
     ax.set_xlabel("cam angle θ [deg]")
     ax.set_ylabel(f"ΔS [{s.unit}]")
@@ -80,3 +81,30 @@ def montecarlo_section(result: Any) -> str:
     )
     plt.close("all")
     return "\n".join(parts)
+
+
+def draw_limits(ax: Any, result: Any) -> None:
+    """Draw the spec or band the yield was judged against, and the worst-margin angle.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Axes of ΔS(θ) in the display unit.
+    result : MonteCarloResult
+        Its ``limits`` (None: nothing drawn) and ``worst_angle_deg``.
+    """
+    if result.limits is None:
+        return
+    lower, upper = result.limits
+    t = result.theta_deg
+    ax.plot(t, upper, "--", color="tab:red", linewidth=1.0, label="spec limits")
+    ax.plot(t, lower, "--", color="tab:red", linewidth=1.0)
+    ax.axvline(result.worst_angle_deg, color="0.4", linewidth=0.8, linestyle=":")
+    ax.annotate(
+        f"worst margin {result.worst_angle_deg:.1f}°",
+        (result.worst_angle_deg, float(upper[int(abs(t - result.worst_angle_deg).argmin())])),
+        textcoords="offset points",
+        xytext=(4, -12),
+        fontsize=8,
+        color="0.3",
+    )

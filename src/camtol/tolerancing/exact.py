@@ -37,6 +37,7 @@ from camtol.tolerancing.results import (
     MonteCarloResult,
     Summary,
     YieldEstimate,
+    spec_limits,
 )
 
 __all__ = ["perturbed", "run_exact"]
@@ -266,6 +267,7 @@ def run_exact(
         comparison=comparison_rows(study, label_q, combined),
         sources=describe_sources(study),
         difference=diff,
+        limits=spec_limits(theta.size, spec, band, s),
         notes=(
             "exact mode: every sample through the contact engine (THEORY §5); quantiles are"
             " exact order statistics; per-source Monte Carlo columns use the linear model",

@@ -48,6 +48,7 @@ from camtol.tolerancing.results import (
     MonteCarloResult,
     Summary,
     YieldEstimate,
+    spec_limits,
 )
 
 __all__ = ["Mode", "Study", "monte_carlo", "prepare"]
@@ -449,6 +450,7 @@ def _linear_result(
         contributions=contributions,
         comparison=comparison_rows(study, label_q, combined),
         sources=describe_sources(study),
+        limits=spec_limits(study.theta_rad.size, spec.spec, band, study.scale),
         notes=(
             "linear mode: closed-form sensitivities (THEORY §3); mean and σ exact for the"
             " samples, quantiles from per-angle histograms (resolution"

@@ -141,6 +141,34 @@ class LinearExactDifference:
     max_sample: float
 
 
+def spec_limits(
+    theta_size: int, spec: float | None, band: tuple[FloatArray, FloatArray] | None, scale: float
+) -> tuple[FloatArray, FloatArray] | None:
+    """Lower and upper limit curves of a spec (±spec) or a band, in the display unit.
+
+    Parameters
+    ----------
+    theta_size : int
+        Number of grid angles. [-]
+    spec : float or None
+        Spec on max |ΔS|. [mm or rad]
+    band : (ndarray, ndarray) or None
+        Lower and upper curves on the grid. [mm or rad]
+    scale : float
+        Factor to the display unit. [unit per mm or rad]
+
+    Returns
+    -------
+    (ndarray, ndarray) or None
+        [unit]
+    """
+    if spec is not None:
+        return np.full(theta_size, -spec * scale), np.full(theta_size, spec * scale)
+    if band is not None:
+        return np.asarray(band[0] * scale), np.asarray(band[1] * scale)
+    return None
+
+
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Result of :func:`camtol.tolerancing.monte_carlo` (display units).
@@ -173,6 +201,9 @@ class MonteCarloResult:
         Exact mode: exact minus linear on the same samples.
     notes : tuple of str
         How the numbers were obtained.
+    limits : (ndarray, ndarray) or None
+        What the yield was judged against, as lower and upper curves on ``theta_deg``
+        (−spec and +spec, or the band); None without a spec. [unit]
     """
 
     design_name: str
@@ -189,6 +220,7 @@ class MonteCarloResult:
     sources: dict[str, str] = field(default_factory=dict)
     difference: LinearExactDifference | None = None
     notes: tuple[str, ...] = ()
+    limits: tuple[FloatArray, FloatArray] | None = None
 
     @property
     def unit(self) -> str:
