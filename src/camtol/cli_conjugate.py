@@ -263,6 +263,7 @@ def conjugate(
             data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}
             if comparison is not None:
                 data["cmm_comparison"] = comparison.summary()
+            data["record_ids"] = list(stored)  # ids of cams A, B in --store ([] without)
             echo_json(data, command="conjugate")
         elif not quiet:
             rep.print_fixture(res, spec, d.name, record=estimates)

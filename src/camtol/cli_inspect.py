@@ -416,6 +416,7 @@ def inspect(
         for w in insp.registration.warnings:
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
+            data["record_ids"] = [] if record_id is None else [record_id]  # in --store
             echo_json(data, command="inspect")
         elif not quiet:
             for line in rep.inspection_text(data):

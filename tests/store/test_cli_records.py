@@ -42,6 +42,7 @@ def test_conjugate_store_records_both_cams(
         == code
     )
     ref = json.loads(capsys.readouterr().out)
+    assert ref["record_ids"] == []  # this run had no --store
     assert main(["records", "list", "--store", store_url, "--json"]) == 0
     recs = json.loads(capsys.readouterr().out)["records"]
     assert [r["cam"] for r in recs] == ["A", "B"]

@@ -84,6 +84,7 @@ def test_inspect_store_records_the_cmm_inspection(
     out = json.loads(captured.out)
     assert code == (0 if out["verdict"] == "pass" else 1)
     assert "recorded as id 1" in captured.err  # stderr with --json: stdout stays JSON
+    assert out["record_ids"] == [1]  # a script can link the JSON to the stored record
 
     with open_store(store_url) as s:
         (rec,) = s.records(with_curves=True)
