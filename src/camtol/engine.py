@@ -69,7 +69,9 @@ class _Columns:
         varying = []
         for key, v in values.items():
             c = float(v.flat[0]) if v.size else math.nan
-            if v.size and bool(np.all(v == c)):
+            # A broadcast is constant by construction; an array whose ends differ is not
+            # (a scalar test that spares most columns the full comparison).
+            if v.size and (v.strides == (0,) or (v.flat[-1] == c and bool(np.all(v == c)))):
                 self._const[key] = c
             elif where.stop >= self.n and v.shape == (self.n,):
                 self._full[key] = v  # a single chunk: keep the array itself
