@@ -206,3 +206,39 @@ def test_pareto_and_hull_reductions_are_exact(rng):
         np.abs(x @ _hull_angles(g3).T).max(axis=1), np.abs(x @ g3.T).max(axis=1), rtol=1e-13
     )
     assert _hull_angles(g3).shape[0] < g3.shape[0]
+
+
+@pytest.mark.parametrize(
+    "extra, criterion, message",
+    [
+        (
+            "[statistics]\ne = { zone_lower_um = -3, zone_upper_um = 5 }",
+            "worst_case",
+            "statistics.e: a fixed zone",
+        ),
+        ("[statistics]\nr = { bias_um = 2 }", "monte_carlo", "statistics.r: a bias"),
+    ],
+)
+def test_cli_allocate_refuses_statistics_it_cannot_scale(
+    tmp_path: Path, capsys, extra, criterion, message
+):
+    """A fixed zone or bias does not scale with the candidate grade: one line, exit 2."""
+    d = _design(tmp_path, extra)
+    argv = ["allocate", str(d), "--spec-um", "30", "--criterion", criterion, "--samples", "500"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_allocate_worst_case_accepts_a_bias(tmp_path: Path):
+    """Worst case and RSS use ±T only: a bias inside the zone does not change them."""
+    from camtol.config import load_design
+    from camtol.tolerancing import allocate
+
+    plain = allocate(load_design(_design(tmp_path, "")), 0.03, verify_samples=500)
+    biased = allocate(
+        load_design(_design(tmp_path, "[statistics]\nr = { bias_um = 2 }")),
+        0.03,
+        verify_samples=500,
+    )
+    assert biased.grades == plain.grades

@@ -307,6 +307,7 @@ def _allocate(
             raise DesignError(f"cost coefficient {k}={v!r} must be > 0")
         coef[k] = float(v)
     model = statistical_model(design) if model is None else model
+    _require_scalable(model, keys, criterion)
     base = prepare(
         _with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg
     )
@@ -507,6 +508,31 @@ def _allocate(
         evaluated=evaluated,
         band=None if band is None else band_label(band),
     )
+
+
+def _require_scalable(model: StatisticalModel, keys: list[str], criterion: str) -> None:
+    """Refuse statistics that allocation cannot scale with the grade (no silent error).
+
+    Allocation chooses each source's zone: every candidate's zone is ±T of its grade and
+    its samples are those of the finest grade scaled by T/T_finest. A zone given in
+    [statistics] is fixed whatever the grade, and a bias (mean shift) in µm or degrees
+    does not scale with T: both would make the figures of every other grade wrong.
+    """
+    for key in keys:
+        d = model.distribution(key)
+        if d.zone_lower is not None or d.zone_upper is not None:
+            raise DesignError(
+                f"statistics.{key}: a fixed zone (zone_lower/zone_upper) cannot be allocated;"
+                " allocate chooses the zone (±T of the grade): remove the zone for"
+                " this source"
+            )
+        if criterion == "monte_carlo" and d.bias != 0.0:
+            raise DesignError(
+                f"statistics.{key}: a bias (bias_um or bias_deg) is a fixed mean shift and would be"
+                " scaled with the candidate grades; allocate with criterion monte_carlo"
+                " needs unbiased sources (run `camtol montecarlo` on the chosen grades"
+                " with the bias to check them)"
+            )
 
 
 def _no_grade(
