@@ -92,7 +92,8 @@ def profile(
     """
 
     def body() -> int:
-        from camtol.report.export import EXPORT_SUFFIXES, write_profile
+        from camtol.export import write_profile
+        from camtol.report.export import EXPORT_SUFFIXES
 
         guard_paths({"DESIGN": design}, {"--output": output})
         if Path(output).suffix.lower() in GCODE_SUFFIXES:

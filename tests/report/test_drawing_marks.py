@@ -18,7 +18,8 @@ import pytest
 from camtol import __version__
 from camtol.cli import main
 from camtol.config import load_design, load_example
-from camtol.report.export import ExportError, write_profile
+from camtol.export import write_profile
+from camtol.report.export import ExportError
 
 SVG = {"s": "http://www.w3.org/2000/svg"}
 

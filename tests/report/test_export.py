@@ -17,16 +17,13 @@ from camtol.cli import main
 from camtol.config import example_names, load_example
 from camtol.design import CamDesign
 from camtol.exceptions import UndercutError
+from camtol.export import write_profile
 from camtol.kinematics import analysis_grid, kinematics
 from camtol.mechanisms import FlatTranslating, RollerOscillating, RollerTranslating
 from camtol.motion import Segment, SegmentProgram
+from camtol.profile import profile_points
 from camtol.report.drawing_marks import MARK_COLOURS
-from camtol.report.export import (
-    EXPORT_SUFFIXES,
-    ExportError,
-    profile_points,
-    write_profile,
-)
+from camtol.report.export import EXPORT_SUFFIXES, ExportError
 
 EXAMPLES = example_names()
 #: Dense analytic reference: 0.001° steps. Its own chords sag by < 1e-7 µm·(100/ρ[mm])
@@ -377,3 +374,18 @@ def test_adaptive_sampling_holds_on_random_flat_designs(
     ref = analytic_curves(design)["CAM_PROFILE"]
     poly = np.column_stack([pts.profile.x_mm, pts.profile.y_mm])
     assert hausdorff_mm(poly, ref) <= 1e-4
+
+
+def test_report_writer_only_writes_what_it_is_given(tmp_path: Path) -> None:
+    """The report layer writes sampled points; a CSV needs the table the core computed."""
+    from camtol.profile import profile_table
+    from camtol.report.export import write_profile_points
+
+    design = load_example("cw06-translating")
+    pts = profile_points(design)
+    with pytest.raises(ExportError, match="needs the table"):
+        write_profile_points(design, pts, tmp_path / "p.csv")
+    assert not (tmp_path / "p.csv").exists()
+    write_profile_points(design, pts, tmp_path / "p.csv", table=profile_table(design, pts))
+    write_profile(design, tmp_path / "q.csv")
+    assert (tmp_path / "p.csv").read_text() == (tmp_path / "q.csv").read_text()

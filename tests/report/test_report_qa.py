@@ -22,8 +22,8 @@ from camtol.inspection import inspect_conjugate
 from camtol.inspection.decision import decide, decision_rule_text
 from camtol.inspection.record import write_indicator_csv
 from camtol.inspection.simulate import simulate_record
+from camtol.profile import profile_points
 from camtol.radius_table import radius_table
-from camtol.report.export import profile_points
 from camtol.report.qa import PRINT_CSS
 
 EXAMPLES_DIR = Path(__file__).parents[2] / "src/camtol/data/examples"

@@ -2,12 +2,14 @@
 
 The adaptive sampling within a chordal tolerance, with its verification, is core
 (:mod:`camtol.profile`, which documents the method and the cam frame); this module only
-writes its result, coordinates in mm in the cam frame.
+writes its result, coordinates in mm in the cam frame. :func:`camtol.export.write_profile`
+does both for a design.
 """
 
 from __future__ import annotations
 
 import io
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Literal
 
@@ -17,13 +19,7 @@ from camtol.design import CamDesign
 from camtol.exceptions import ExportError
 from camtol.files import atomic_write
 from camtol.jet import FloatArray
-from camtol.profile import (
-    DEFAULT_TOLERANCE_MM,
-    ProfileCurve,
-    ProfilePoints,
-    profile_points,
-    profile_table,
-)
+from camtol.profile import DEFAULT_TOLERANCE_MM, ProfileCurve, ProfilePoints
 
 __all__ = [
     "DEFAULT_TOLERANCE_MM",
@@ -32,11 +28,10 @@ __all__ = [
     "ProfileCurve",
     "ProfilePoints",
     "export_format",
-    "profile_points",
-    "write_profile",
+    "write_profile_points",
 ]
 
-#: File suffixes :func:`write_profile` understands.
+#: File suffixes :func:`write_profile_points` understands.
 EXPORT_SUFFIXES: tuple[str, ...] = (".csv", ".dxf", ".svg")
 
 ExportFormat = Literal["csv", "dxf", "svg"]
@@ -78,52 +73,57 @@ def export_format(path: str | Path) -> ExportFormat:
     return fmt
 
 
-def write_profile(
+def write_profile_points(
     design: CamDesign,
+    points: ProfilePoints,
     path: str | Path,
     *,
-    tolerance_mm: float = DEFAULT_TOLERANCE_MM,
-    cutter_radius_mm: float | None = None,
+    table: Mapping[str, FloatArray] | None = None,
 ) -> ProfilePoints:
-    """Write the cam profile for CAD/CAM; the format follows the file suffix.
+    """Write sampled profile curves for CAD/CAM; the format follows the file suffix.
+
+    The sampling is core (:func:`camtol.profile.profile_points`);
+    :func:`camtol.export.write_profile` samples a design and calls this.
 
     Parameters
     ----------
     design : CamDesign
-        The design.
+        The design the curves belong to (for the drawing marks of DXF and SVG).
+    points : ProfilePoints
+        The sampled curves, from :func:`camtol.profile.profile_points`.
     path : str or Path
         Output file: ``.csv`` (one row per cam angle: ``theta_deg`` and ``<layer>_x_mm``,
         ``<layer>_y_mm`` of every curve), ``.dxf`` (closed LWPOLYLINEs, one layer per
         curve, units mm) or ``.svg`` (one group per curve, millimetres); DXF and SVG also
         carry the timing mark, rotation arrow, bore/hub and labels of
         :mod:`camtol.report.drawing_marks`.
-    tolerance_mm : float
-        Chordal tolerance of the polylines, 1e-7..1 (default 0.1 µm). [mm]
-    cutter_radius_mm : float, optional
-        Add the cutter-centre path for a cutter of this radius. [mm]
+    table : mapping of str to ndarray, optional
+        The CSV columns, from :func:`camtol.profile.profile_table` (required for CSV).
+        [deg, mm]
 
     Returns
     -------
     ProfilePoints
-        The sampled curves that were written.
+        ``points``, as written.
 
     Raises
     ------
     ExportError
-        Unknown suffix, missing directory, or an option out of range; nothing is written.
-    GeometryError, UndercutError
-        The design (or the cutter path) cannot be made; nothing is written.
+        Unknown suffix, missing directory, or CSV without its table; nothing is written.
 
     Notes
     -----
     The file is written to a temporary name in the same directory and renamed into place,
-    so a failure never leaves a partial file. See :func:`profile_points` for the sampling.
+    so a failure never leaves a partial file.
     """
     p = Path(path)
     fmt = export_format(p)
     if not p.parent.is_dir():
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
-    points = profile_points(design, tolerance_mm=tolerance_mm, cutter_radius_mm=cutter_radius_mm)
+    if fmt == "csv" and table is None:
+        raise ExportError(
+            f"output file {str(p)!r}: a CSV export needs the table of camtol.profile.profile_table"
+        )
     from camtol.report.finite import require_finite
 
     for c in points.curves:
@@ -131,7 +131,8 @@ def write_profile(
         require_finite(f"{c.layer} x_mm", c.x_mm, theta_deg=deg, where=str(p))
         require_finite(f"{c.layer} y_mm", c.y_mm, theta_deg=deg, where=str(p))
     if fmt == "csv":
-        data = _csv_text(profile_table(design, points)).encode("utf-8")
+        assert table is not None
+        data = _csv_text(dict(table)).encode("utf-8")
     else:
         from camtol import __version__
         from camtol.report.drawing_marks import drawing_marks

@@ -1,4 +1,4 @@
-"""DXF and SVG writers of the profile export (:func:`camtol.report.export.write_profile`).
+"""DXF and SVG writers of the profile export (:func:`camtol.report.export.write_profile_points`).
 
 Curves go on their own layers (DXF) or groups (SVG): ``CAM_PROFILE``,
 ``CAM_PITCH_CURVE``, ``CAM_CUTTER_PATH`` (``CAM_A_*`` and ``CAM_B_*`` with distinct colours
