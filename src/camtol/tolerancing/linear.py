@@ -166,8 +166,7 @@ def run_task(spec: LinearSpec, chunks: tuple[int, ...]) -> LinearTotals:
                 # K = columns + 1 GEMM hits a slow multithreaded OpenBLAS path).
                 u = np.multiply(d, inv_w[q][a0:a1], out=buf[: a1 - a0, :size])
                 u += off[q][a0:a1]
-                np.maximum(u, 0.0, out=u)
-                np.minimum(u, ANGLE_BINS - 1, out=u)
+                np.clip(u, 0.0, ANGLE_BINS - 1, out=u)  # one pass (rounding at the edges)
                 idx = u.astype(np.int32)  # float32 → int32 is vectorised; → int64 is not
                 idx += offs[: a1 - a0]
                 hist[a0 * ANGLE_BINS : a1 * ANGLE_BINS] += np.bincount(
