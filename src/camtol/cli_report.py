@@ -260,6 +260,17 @@ def _traceability_options(f: Any) -> Any:
     metavar="N",
     help="Add a linear Monte Carlo section with N samples (docs/tolerancing.md).",
 )
+@click.option(
+    "--mc-spec-um", type=float, help="With --montecarlo: spec on max |dS| of a lift [um]."
+)
+@click.option(
+    "--mc-spec-deg", type=float, help="With --montecarlo: spec on max |dS| of a swing [deg]."
+)
+@click.option(
+    "--mc-band",
+    metavar="FILE.csv",
+    help="With --montecarlo: band lower <= dS <= upper (as `camtol montecarlo --band`).",
+)
 def report(
     design: str | None,
     example: str | None,
@@ -280,6 +291,9 @@ def report(
     as_json: bool,
     quiet: bool,
     mc_samples: int | None,
+    mc_spec_um: float | None,
+    mc_spec_deg: float | None,
+    mc_band: str | None,
     **traceability: str | None,
 ) -> None:
     """Write a self-contained HTML report: verdict, inputs, conventions, extremes, figures.
@@ -311,6 +325,7 @@ def report(
                 ("--record", record_path),
                 ("--cmm-a", cmm_a),
                 ("--cmm-b", cmm_b),
+                ("--mc-band", mc_band),
             )
             if value is not None and Path(value).exists()
         }
@@ -318,14 +333,25 @@ def report(
         check_output_path(output, "--output", [".html", ".htm"])
         if mc_samples is not None and mc_samples <= 0:
             fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")
+        mc_limits = {"--mc-spec-um": mc_spec_um, "--mc-spec-deg": mc_spec_deg, "--mc-band": mc_band}
+        mc_given = [k for k, v in mc_limits.items() if v is not None]
+        if mc_given and mc_samples is None:
+            fail(f"{mc_given[0]} is only allowed with --montecarlo N")
         d = load_input(design, example)
+        mc_spec = mc_curves = None
+        if mc_samples is not None:
+            from camtol.cli_tolerancing import band_option, spec_option
+
+            mc_spec = spec_option(d, mc_spec_um, mc_spec_deg, flag="--mc-spec")
+            mc_curves = band_option(d, mc_band, mc_spec, flag="--mc-band", spec_flag="--mc-spec")
         a = analyse(d, step_deg=step_deg)
         sections: list[str] = []
         if mc_samples is not None:
             from camtol.report.tolerancing import montecarlo_section
             from camtol.tolerancing import monte_carlo
 
-            sections.append(montecarlo_section(monte_carlo(d, mc_samples, step_deg=step_deg)))
+            study = monte_carlo(d, mc_samples, spec=mc_spec, band=mc_curves, step_deg=step_deg)
+            sections.append(montecarlo_section(study))
         fixture = None
         if d.mechanism.kind == "conjugate" and (
             d.inspection is not None

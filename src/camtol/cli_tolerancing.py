@@ -26,7 +26,7 @@ from camtol.cli import (
     run_guarded,
 )
 
-__all__ = ["allocate", "montecarlo"]
+__all__ = ["allocate", "band_option", "montecarlo", "spec_option"]
 
 
 @contextmanager
@@ -47,31 +47,57 @@ def _progress(label: str, enabled: bool) -> Iterator[Callable[[int, int], None] 
         yield update
 
 
-def _spec(design: Any, spec_um: float | None, spec_deg: float | None) -> float | None:
+def spec_option(
+    design: Any, spec_um: float | None, spec_deg: float | None, *, flag: str = "--spec"
+) -> float | None:
+    """Spec on max |ΔS| from ``<flag>-um`` / ``<flag>-deg`` (internal units), or None.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (its output decides which flag is allowed).
+    spec_um, spec_deg : float or None
+        The flags' values. [µm, deg]
+    flag : str
+        The flags' common prefix, for the messages.
+
+    Returns
+    -------
+    float or None
+        [mm, or rad for an oscillating follower]
+    """
+    um, deg = f"{flag}-um", f"{flag}-deg"
     if spec_um is not None and spec_deg is not None:
-        fail("give --spec-um or --spec-deg, not both")
+        fail(f"give {um} or {deg}, not both")
     oscillating = design.mechanism.output == "oscillating"
     if spec_um is not None:
         if oscillating:
-            fail(f"--spec-um={spec_um:g}: the output of this design is an angle; use --spec-deg")
+            fail(f"{um}={spec_um:g}: the output of this design is an angle; use {deg}")
         if not (math.isfinite(spec_um) and spec_um > 0):
-            fail(f"--spec-um={spec_um!r} must be > 0")
+            fail(f"{um}={spec_um!r} must be > 0")
         return spec_um * 1e-3
     if spec_deg is not None:
         if not oscillating:
-            fail(f"--spec-deg={spec_deg:g}: the output of this design is a lift; use --spec-um")
+            fail(f"{deg}={spec_deg:g}: the output of this design is a lift; use {um}")
         if not (math.isfinite(spec_deg) and spec_deg > 0):
-            fail(f"--spec-deg={spec_deg!r} must be > 0")
+            fail(f"{deg}={spec_deg!r} must be > 0")
         return math.radians(spec_deg)
     return None
 
 
-def _band(design: Any, band: str | None, spec: float | None) -> Any:
-    """Read ``--band FILE.csv`` (None without it); refuse it together with a spec."""
+def band_option(
+    design: Any,
+    band: str | None,
+    spec: float | None,
+    *,
+    flag: str = "--band",
+    spec_flag: str = "--spec",
+) -> Any:
+    """Read a band file option (None without it); refuse it together with a spec."""
     if band is None:
         return None
     if spec is not None:
-        fail("give --band or --spec-um/--spec-deg, not both")
+        fail(f"give {flag} or {spec_flag}-um/{spec_flag}-deg, not both")
     from camtol.tolerancing.band import read_band_csv
 
     return read_band_csv(band, design.mechanism.output)
@@ -211,8 +237,8 @@ def montecarlo(
         if workers < 1:
             fail(f"--workers={workers} is not allowed; give 1 or more")
         d = load_input(design, example)
-        spec = _spec(d, spec_um, spec_deg)
-        limits = _band(d, band, spec)
+        spec = spec_option(d, spec_um, spec_deg)
+        limits = band_option(d, band, spec)
         from camtol.tolerancing import monte_carlo
 
         with _progress("Monte Carlo", not as_json) as progress:
@@ -315,8 +341,8 @@ def allocate(
         from camtol.tolerancing import allocate as run
 
         d = load_input(design, example)
-        spec = _spec(d, spec_um, spec_deg)
-        curves = _band(d, band, spec)
+        spec = spec_option(d, spec_um, spec_deg)
+        curves = band_option(d, band, spec)
         if spec is None and curves is None:
             fail(
                 "give the spec on max |dS|: --spec-um (lift) or --spec-deg (swing), or a band"

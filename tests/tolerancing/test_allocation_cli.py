@@ -242,3 +242,38 @@ def test_allocate_worst_case_accepts_a_bias(tmp_path: Path):
         verify_samples=500,
     )
     assert biased.grades == plain.grades
+
+
+def test_report_montecarlo_section_with_a_spec_or_band(tmp_path: Path, capsys):
+    """--mc-spec-um / --mc-band give the report's Monte Carlo section its yield, the same
+    yield `camtol montecarlo` gives with the same seed (0), samples and grid."""
+    import json
+
+    base = ["-e", "cw06-translating", "--step", "1"]
+    out = tmp_path / "r.html"
+    argv = ["report", *base, "-o", str(out), "--montecarlo", "2000", "--mc-spec-um", "18", "-q"]
+    assert main(argv) == 0
+    assert main(["montecarlo", *base, "--samples", "2000", "--spec-um", "18", "--json"]) == 0
+    y = json.loads(capsys.readouterr().out)["yield"]["value"]
+    assert f"Yield (max |dS| &lt;= 18 um): {y:.4%}" in out.read_text()
+    band = tmp_path / "b.csv"
+    band.write_text("theta_deg,lower_um,upper_um\n0,-15,20\n180,-15,20\n")
+    out2 = tmp_path / "r2.html"
+    argv = ["report", *base, "-o", str(out2), "--montecarlo", "2000", "--mc-band", str(band)]
+    assert main([*argv, "-q"]) == 0
+    assert "lower &lt;= dS &lt;= upper at every angle, band b.csv" in out2.read_text()
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--mc-spec-um", "18"], "--mc-spec-um is only allowed with --montecarlo N"),
+        (["--montecarlo", "10", "--mc-spec-deg", "0.1"], "--mc-spec-deg=0.1: the output"),
+        (["--montecarlo", "10", "--mc-spec-um", "-1"], "--mc-spec-um=-1.0 must be > 0"),
+    ],
+)
+def test_report_montecarlo_limit_refusals(tmp_path: Path, capsys, args, message):
+    out = tmp_path / "r.html"
+    assert main(["report", "-e", "cw06-translating", "-o", str(out), *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1 and not out.exists()
