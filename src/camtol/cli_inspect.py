@@ -413,7 +413,7 @@ def inspect(
             from camtol.cli_records import add_records
 
             record_id = add_records(store, *prepared)[0]
-        for w in insp.registration.warnings:
+        for w in () if quiet else insp.registration.warnings:  # -q: exit status only
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:
             data["record_ids"] = [] if record_id is None else [record_id]  # in --store

@@ -444,3 +444,10 @@ def test_cmm_plot_needs_the_scans(capsys, tmp_path: Path) -> None:  # type: igno
     out = tmp_path / "c.png"
     code, _, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--cmm-plot", str(out))
     assert code == 2 and "--cmm-plot needs the CMM scans" in err and not out.exists()
+
+
+def test_inspect_quiet_prints_nothing(capsys, scan_b: Path) -> None:  # type: ignore[no-untyped-def]
+    """-q is 'exit status only': not even the best-fit warning (it stays in --json)."""
+    args = ["inspect", "--example", "cw11-experiment", "--points", str(scan_b), "--cam", "B"]
+    code, out, err = _run(capsys, *args, "--stylus-radius-mm", "1", "-q")
+    assert code == 0 and out == "" and err == ""
