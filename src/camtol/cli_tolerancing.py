@@ -93,7 +93,23 @@ def band_option(
     flag: str = "--band",
     spec_flag: str = "--spec",
 ) -> Any:
-    """Read a band file option (None without it); refuse it together with a spec."""
+    """Read a band file option (None without it); refuse it together with a spec.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (its output decides the file's unit: µm or degrees).
+    band : str or None
+        The option's value: a CSV file (docs/file-formats.md).
+    spec : float or None
+        The spec given by the ``<spec_flag>`` options, if any. [mm or rad]
+    flag, spec_flag : str
+        The option names, for the messages.
+
+    Returns
+    -------
+    ToleranceBand or None
+    """
     if band is None:
         return None
     if spec is not None:
