@@ -31,50 +31,7 @@ if TYPE_CHECKING:
     from camtol.inspection.cmm_fixture import CmmFixtureComparison
     from camtol.inspection.registration import Datum
 
-__all__ = ["inspect", "parse_columns", "parse_datum", "parse_motion_spec", "parse_numbers"]
-
-
-def parse_motion_spec(output: str, spec_um: float | None, spec_deg: float | None) -> float | None:
-    """Return the motion spec from ``--spec-um``/``--spec-deg`` in the unit of S, or fail.
-
-    The flags are those of ``camtol montecarlo``: a spec on max |ΔS| of a lift [µm] or of
-    a swing [deg].
-
-    Parameters
-    ----------
-    output : str
-        The follower's output, ``"translating"`` or ``"oscillating"``.
-    spec_um : float or None
-        ``--spec-um``. [µm]
-    spec_deg : float or None
-        ``--spec-deg``. [deg]
-
-    Returns
-    -------
-    float or None
-        The spec in mm (translating) or rad (oscillating); None when neither was given.
-    """
-    if spec_um is not None and spec_deg is not None:
-        fail("give --spec-um or --spec-deg, not both")
-    if spec_um is not None:
-        if output == "oscillating":
-            fail(
-                f"--spec-um={spec_um:g} is not allowed: the output of this cam is an angle;"
-                " use --spec-deg"
-            )
-        if not (math.isfinite(spec_um) and spec_um > 0):
-            fail(f"--spec-um={spec_um!r} is not allowed; give a number of µm > 0")
-        return spec_um * 1e-3
-    if spec_deg is not None:
-        if output != "oscillating":
-            fail(
-                f"--spec-deg={spec_deg:g} is not allowed: the output of this cam is a lift;"
-                " use --spec-um"
-            )
-        if not (math.isfinite(spec_deg) and spec_deg > 0):
-            fail(f"--spec-deg={spec_deg!r} is not allowed; give a number of degrees > 0")
-        return math.radians(spec_deg)
-    return None
+__all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
 
 
 def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float, ...]:
@@ -340,6 +297,8 @@ def inspect(
 
         d = load_input(design, example)
         prof = cam_profile(d, cam)  # type: ignore[arg-type]
+        from camtol.cli_tolerancing import parse_motion_spec
+
         spec = parse_motion_spec(prof.mechanism.output, spec_um, spec_deg)
         scan = read_scan(
             points_path,

@@ -340,9 +340,11 @@ def report(
         d = load_input(design, example)
         mc_spec = mc_curves = None
         if mc_samples is not None:
-            from camtol.cli_tolerancing import band_option, spec_option
+            from camtol.cli_tolerancing import band_option, parse_motion_spec
 
-            mc_spec = spec_option(d, mc_spec_um, mc_spec_deg, flag="--mc-spec")
+            mc_spec = parse_motion_spec(
+                d.mechanism.output, mc_spec_um, mc_spec_deg, flag="--mc-spec"
+            )
             mc_curves = band_option(d, mc_band, mc_spec, flag="--mc-band", spec_flag="--mc-spec")
         a = analyse(d, step_deg=step_deg)
         sections: list[str] = []

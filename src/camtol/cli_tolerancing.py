@@ -26,7 +26,7 @@ from camtol.cli import (
     run_guarded,
 )
 
-__all__ = ["allocate", "band_option", "montecarlo", "spec_option"]
+__all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
 
 
 @contextmanager
@@ -47,15 +47,18 @@ def _progress(label: str, enabled: bool) -> Iterator[Callable[[int, int], None] 
         yield update
 
 
-def spec_option(
-    design: Any, spec_um: float | None, spec_deg: float | None, *, flag: str = "--spec"
+def parse_motion_spec(
+    output: str, spec_um: float | None, spec_deg: float | None, *, flag: str = "--spec"
 ) -> float | None:
-    """Spec on max |ΔS| from ``<flag>-um`` / ``<flag>-deg`` (internal units), or None.
+    """Return the spec on max |ΔS| from ``<flag>-um`` / ``<flag>-deg``, or fail.
+
+    One rule for every command that takes a motion spec (``montecarlo``, ``allocate``,
+    ``inspect``, and ``report --mc-spec-um/-deg``): a lift in µm, a swing in degrees.
 
     Parameters
     ----------
-    design : CamDesign
-        The design (its output decides which flag is allowed).
+    output : str
+        The follower's output, ``"translating"`` or ``"oscillating"``.
     spec_um, spec_deg : float or None
         The flags' values. [µm, deg]
     flag : str
@@ -64,23 +67,22 @@ def spec_option(
     Returns
     -------
     float or None
-        [mm, or rad for an oscillating follower]
+        The spec in mm (translating) or rad (oscillating); None when neither was given.
     """
     um, deg = f"{flag}-um", f"{flag}-deg"
     if spec_um is not None and spec_deg is not None:
         fail(f"give {um} or {deg}, not both")
-    oscillating = design.mechanism.output == "oscillating"
     if spec_um is not None:
-        if oscillating:
-            fail(f"{um}={spec_um:g}: the output of this design is an angle; use {deg}")
+        if output == "oscillating":
+            fail(f"{um}={spec_um:g} is not allowed: the output of this cam is an angle; use {deg}")
         if not (math.isfinite(spec_um) and spec_um > 0):
-            fail(f"{um}={spec_um!r} must be > 0")
+            fail(f"{um}={spec_um!r} is not allowed; give a number of µm > 0")
         return spec_um * 1e-3
     if spec_deg is not None:
-        if not oscillating:
-            fail(f"{deg}={spec_deg:g}: the output of this design is a lift; use {um}")
+        if output != "oscillating":
+            fail(f"{deg}={spec_deg:g} is not allowed: the output of this cam is a lift; use {um}")
         if not (math.isfinite(spec_deg) and spec_deg > 0):
-            fail(f"{deg}={spec_deg!r} must be > 0")
+            fail(f"{deg}={spec_deg!r} is not allowed; give a number of degrees > 0")
         return math.radians(spec_deg)
     return None
 
@@ -253,7 +255,7 @@ def montecarlo(
         if workers < 1:
             fail(f"--workers={workers} is not allowed; give 1 or more")
         d = load_input(design, example)
-        spec = spec_option(d, spec_um, spec_deg)
+        spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         limits = band_option(d, band, spec)
         from camtol.tolerancing import monte_carlo
 
@@ -357,7 +359,7 @@ def allocate(
         from camtol.tolerancing import allocate as run
 
         d = load_input(design, example)
-        spec = spec_option(d, spec_um, spec_deg)
+        spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         curves = band_option(d, band, spec)
         if spec is None and curves is None:
             fail(

@@ -268,8 +268,8 @@ def test_report_montecarlo_section_with_a_spec_or_band(tmp_path: Path, capsys):
     "args, message",
     [
         (["--mc-spec-um", "18"], "--mc-spec-um is only allowed with --montecarlo N"),
-        (["--montecarlo", "10", "--mc-spec-deg", "0.1"], "--mc-spec-deg=0.1: the output"),
-        (["--montecarlo", "10", "--mc-spec-um", "-1"], "--mc-spec-um=-1.0 must be > 0"),
+        (["--montecarlo", "10", "--mc-spec-deg", "0.1"], "--mc-spec-deg=0.1 is not allowed: the"),
+        (["--montecarlo", "10", "--mc-spec-um", "-1"], "--mc-spec-um=-1.0 is not allowed; give"),
     ],
 )
 def test_report_montecarlo_limit_refusals(tmp_path: Path, capsys, args, message):
