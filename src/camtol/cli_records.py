@@ -31,7 +31,6 @@ __all__ = [
     "add_records",
     "cmm_record",
     "fixture_records",
-    "store_fixture_records",
     "store_options",
 ]
 
@@ -494,42 +493,6 @@ def add_records(location: str, recs: Sequence[InspectionRecord], design_text: st
 
     with open_store(location) as store:
         return store.add_all(recs, design_text=design_text)
-
-
-def store_fixture_records(
-    location: str,
-    opts: dict[str, str | None],
-    design: Any,
-    design_path: str | None,
-    example: str | None,
-    res: Any,
-    spec: Any,
-) -> list[int]:
-    """Record cams A and B of a fixture inspection in one transaction.
-
-    :func:`fixture_records` then :func:`add_records`.
-
-    Parameters
-    ----------
-    location : str
-        The store (path or URL).
-    opts : dict
-        The options of :func:`store_options`.
-    design : CamDesign
-        The inspected design.
-    design_path, example : str or None
-        Where the design came from (its TOML text is hashed and stored).
-    res : FixtureInspection
-        The fixture analysis, with a measurement.
-    spec : FixtureSpec
-        The inspection spec (tolerances of cams A and B).
-
-    Returns
-    -------
-    list of int
-        The ids of the records of A and B.
-    """
-    return add_records(location, *fixture_records(opts, design, design_path, example, res, spec))
 
 
 def fixture_records(
