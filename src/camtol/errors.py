@@ -124,19 +124,7 @@ class ErrorAnalysis:
         ndarray
             [output unit per rad^order]
         """
-        out = np.zeros(self.theta_rad.shape)
-        part = np.empty_like(out)
-        for src in self.sources.values():
-            s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
-            c = _constant(s)
-            if c is not None:  # a broadcast constant: one scalar, not an array pass
-                if c != 0.0:
-                    out += abs(c) * abs(src.deviation)
-                continue
-            np.abs(s, out=part)
-            part *= abs(src.deviation)
-            out += part
-        return out
+        return self._sum(order, squares=False)
 
     def rms(self, order: int) -> FloatArray:
         """RMS sqrt(Σ_p (d^k ΔS_p/dθ^k)²) of derivative order k (0, 1, 2).
@@ -151,19 +139,29 @@ class ErrorAnalysis:
         ndarray
             [output unit per rad^order]
         """
+        out = self._sum(order, squares=True)
+        return np.sqrt(out, out=out)
+
+    def _sum(self, order: int, *, squares: bool) -> FloatArray:
+        """Σ_p |d^k ΔS_p| (or Σ_p (d^k ΔS_p)² with ``squares``), one array pass per source."""
         out = np.zeros(self.theta_rad.shape)
         part = np.empty_like(out)
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
             c = _constant(s)
-            if c is not None:
+            if c is not None:  # a broadcast constant: one scalar, not an array pass
                 if c != 0.0:
-                    out += (c * src.deviation) * (c * src.deviation)
+                    d = c * src.deviation
+                    out += d * d if squares else abs(c) * abs(src.deviation)
                 continue
-            np.multiply(s, src.deviation, out=part)
-            part *= part
+            if squares:
+                np.multiply(s, src.deviation, out=part)
+                part *= part
+            else:
+                np.abs(s, out=part)
+                part *= abs(src.deviation)
             out += part
-        return np.sqrt(out, out=out)
+        return out
 
     @property
     def worst_lift(self) -> FloatArray:
