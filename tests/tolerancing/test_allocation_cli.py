@@ -203,9 +203,9 @@ def test_pareto_and_hull_reductions_are_exact(rng):
     g3 = prepare(CW06, step_deg=1.0).sens["lift"]
     x = rng.standard_normal((200, 3))
     np.testing.assert_allclose(
-        np.abs(x @ _hull_angles(g3).T).max(axis=1), np.abs(x @ g3.T).max(axis=1), rtol=1e-13
+        np.abs(x @ g3[_hull_angles(g3)].T).max(axis=1), np.abs(x @ g3.T).max(axis=1), rtol=1e-13
     )
-    assert _hull_angles(g3).shape[0] < g3.shape[0]
+    assert _hull_angles(g3).size < g3.shape[0]
 
 
 @pytest.mark.parametrize(

@@ -320,12 +320,12 @@ def test_band_tighter_at_one_angle_tightens_the_allocation(criterion):
 
 
 def test_band_hull_reduction_is_exact(tmp_path: Path, rng):
-    from camtol.tolerancing.allocation import _band_hull_angles
+    from camtol.tolerancing.allocation import _hull_angles
 
     st = prepare(CW06, step_deg=STEP)
     g = st.sens["lift"]
     lo, hi = _asymmetric(tmp_path).on_grid(st.theta_rad)
-    sel = _band_hull_angles(g, lo, hi)
+    sel = _hull_angles(g, lo, hi)
     assert 0 < sel.size < g.shape[0] // 2  # a real reduction (3 sources: qhull in 3-D)
     x = rng.standard_normal((500, g.shape[1])) * 0.02
     rows = np.vstack([g / hi[:, None], g / lo[:, None]])

@@ -102,38 +102,22 @@ def _with_grades(design: CamDesign, keys: list[str], grades: tuple[str, ...]) ->
     return dataclasses.replace(design, tolerances=specs)
 
 
-def _hull_angles(g: FloatArray) -> FloatArray:
-    """Rows of g at the vertices of the convex hull of {±g} (all rows if qhull cannot).
-
-    max over rows of |row · t| is reached at such a vertex, for every t.
-    """
-    # Coordinates in the span of the rows (two sources may have equal sensitivities,
-    # e.g. Δn and Δr_f of a roller, which would make the hull flat).
-    _, sv, vt = np.linalg.svd(g, full_matrices=False)
-    rank = int(np.count_nonzero(sv > 1e-10 * sv[0])) if sv.size and sv[0] > 0 else 0
-    if not 2 <= rank <= 3:  # qhull gets slow beyond 3-D on these dense curves
-        return g
-    try:
-        from scipy.spatial import ConvexHull, QhullError
-
-        p = g @ vt[:rank].T
-        hull = ConvexHull(np.vstack([p, -p]))
-        idx = np.unique(np.asarray(hull.vertices) % g.shape[0])
-        return np.asarray(g[idx], dtype=float)
-    except (QhullError, ValueError):
-        return g
-
-
-def _band_hull_angles(g: FloatArray, lower: FloatArray, upper: FloatArray) -> NDArray[np.intp]:
+def _hull_angles(
+    g: FloatArray, lower: FloatArray | None = None, upper: FloatArray | None = None
+) -> NDArray[np.intp]:
     """Angles whose rows g/upper or g/lower are vertices of the hull of all of them.
 
     A sample x leaves the band somewhere iff max over the rows R of {g(θ)/upper(θ),
     g(θ)/lower(θ)} of x · R > 1 (lower < 0 flips the inequality), and that maximum is
-    reached at a vertex of the convex hull of the rows (exact). Returns the indices of
-    those angles (every angle when the rows span more than 3 dimensions or qhull fails).
+    reached at a vertex of the convex hull of the rows (exact). Without a band the rows
+    are {±g} (lower = −1, upper = 1): max |x · g(θ)| is reached at such a vertex. Returns
+    the indices of those angles (every angle when the rows span more than 3 dimensions,
+    where qhull gets slow on these dense curves, or when qhull fails).
     """
     n = g.shape[0]
     every = np.arange(n)
+    # Coordinates in the span of the rows (two sources may have equal sensitivities,
+    # e.g. Δn and Δr_f of a roller, which would make the hull flat).
     _, sv, vt = np.linalg.svd(g, full_matrices=False)
     rank = int(np.count_nonzero(sv > 1e-10 * sv[0])) if sv.size and sv[0] > 0 else 0
     if not 2 <= rank <= 3:
@@ -142,7 +126,9 @@ def _band_hull_angles(g: FloatArray, lower: FloatArray, upper: FloatArray) -> ND
         from scipy.spatial import ConvexHull, QhullError
 
         p = g @ vt[:rank].T
-        hull = ConvexHull(np.vstack([p / upper[:, None], p / lower[:, None]]))
+        hi = p if upper is None else p / upper[:, None]
+        lo = -p if lower is None else p / lower[:, None]
+        hull = ConvexHull(np.vstack([hi, lo]))
         return np.unique(np.asarray(hull.vertices) % n)
     except (QhullError, ValueError):
         return every
@@ -373,12 +359,12 @@ def _allocate(
         x_unit = sample_matrix(u_plan, seed, samples)  # samples at the finest grades
         g_full = np.hstack([g, g_all[:, nk:]])
         if curves is None:
-            verts = _hull_angles(g_full)
+            verts = g_full[_hull_angles(g_full)]
             v_lo = np.full(verts.shape[0], -limit)
             v_hi = np.full(verts.shape[0], limit)
             v_w = np.ones(verts.shape[0])
         else:
-            sel = _band_hull_angles(g_full, curves[0], curves[1])
+            sel = _hull_angles(g_full, curves[0], curves[1])
             verts, v_lo, v_hi, v_w = g_full[sel], curves[0][sel], curves[1][sel], w[sel]
         ones = np.ones((t_comb.shape[0], 1))
         wc_ok = (wc_rows @ np.hstack([t_comb, ones]).T).max(axis=0) <= limit
