@@ -32,6 +32,7 @@ from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
 __all__ = [
     "Analysis",
     "Curves",
+    "LiftTablePrecision",
     "Quantity",
     "analyse",
     "analyze",
@@ -66,6 +67,43 @@ class Quantity:
 
 
 @dataclass(frozen=True)
+class LiftTablePrecision:
+    """How the precision of a lift table limits its derivatives (THEORY §1, §6.1).
+
+    V, A and J of a lift table are the derivatives of a periodic cubic spline through
+    it: rounding the table to a quantum Q alone can change A by up to 6Q/Δθ²
+    (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4).
+
+    Attributes
+    ----------
+    step_deg : float
+        Step of the table. [deg]
+    unit : str
+        Unit of the lift: ``mm``, or ``rad`` for an oscillating follower.
+    resolution : float or None
+        Quantum Q the table is rounded to, None when its values carry full precision.
+        [mm, or rad]
+    acceleration_noise_bound : float or None
+        6Q/Δθ², the largest change of A that the rounding can cause, None without a
+        resolution. [mm/rad², or rad/rad²]
+    max_abs_acceleration : float
+        max |A| of the spline on the analysis grid. [mm/rad², or rad/rad²]
+    """
+
+    step_deg: float
+    unit: str
+    resolution: float | None
+    acceleration_noise_bound: float | None
+    max_abs_acceleration: float
+
+    @property
+    def derivatives_reliable(self) -> bool:
+        """False when the rounding bound exceeds 5 % of max |A| (ΔV, ΔA not reliable)."""
+        bound = self.acceleration_noise_bound
+        return bound is None or not bound > 0.05 * self.max_abs_acceleration
+
+
+@dataclass(frozen=True)
 class Analysis:
     """Result of :func:`analyse`.
 
@@ -94,7 +132,8 @@ class Analysis:
     accuracy : iso286.GradeBracket
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
     notes : tuple of str
-        What the user must know to trust the numbers (e.g. a lift table's precision).
+        Further caveats in words (none today; the report adds those of
+        :attr:`lift_table`, see :func:`camtol.report.display.analysis_notes`).
     other_cams : tuple of (str, Kinematics)
         The kinematics of the design's further cams (cam B of a conjugate pair) on the
         same grid, by label; see :meth:`cam_kinematics`.
@@ -104,6 +143,8 @@ class Analysis:
     motion : MotionPeaks or None
         Peak V, A, J of the nominal follower motion (per radian; SI at the design speed
         with :meth:`MotionPeaks.at_speed`).
+    lift_table : LiftTablePrecision or None
+        For a motion given as a lift table: how its precision limits V, A and J.
     """
 
     design: CamDesign
@@ -148,6 +189,7 @@ class Analysis:
 
     geometry: tuple[CamGeometry, ...] = ()
     motion: MotionPeaks | None = None
+    lift_table: LiftTablePrecision | None = None
 
     @property
     def pressure_angle_exceeds_limit(self) -> bool:
@@ -496,10 +538,11 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         rmax,
         travel,
         accuracy,
-        _notes(design, kin),
+        (),
         others,
         _geometry(design, kin, others),
         motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
+        _lift_table(design, kin),
     )
 
 
@@ -544,31 +587,15 @@ def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
 analyse = analyze
 
 
-def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:
-    """Caveats on the numbers: a lift table's derivatives depend on its precision."""
+def _lift_table(design: CamDesign, kin: Kinematics) -> LiftTablePrecision | None:
+    """Return what the precision of a lift table does to its derivatives (None for laws)."""
     program = design.program
     if not isinstance(program, LiftTable):
-        return ()
-    oscillating = design.mechanism.output == "oscillating"
-    unit, scale = ("°", 180.0 / math.pi) if oscillating else (" mm", 1.0)
-    step = math.degrees(program.step_rad)
-    notes = [
-        f"the motion is a lift table every {step:g}°: V, A and J are the derivatives of a"
-        " periodic cubic spline through it and depend on the table's precision"
-        " (THEORY §1, §6.1); J jumps at every tabulated angle"
-    ]
-    bound = program.acceleration_noise_bound
-    if bound is not None and program.resolution is not None:
-        a_max = float(np.max(np.abs(kin.acceleration)))
-        notes.append(
-            f"the table is rounded to {program.resolution * scale:g}{unit}: rounding alone can"
-            f" change the spline's A by up to 6Q/Δθ² = {bound * scale:.4g}{unit}/rad²"
-            " (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4),"
-            f" against max |A| = {a_max * scale:.4g}{unit}/rad²"
-            + (
-                "; ΔV and ΔA are NOT reliable at this precision: tabulate with more decimals"
-                if bound > 0.05 * a_max
-                else ""
-            )
-        )
-    return tuple(notes)
+        return None
+    return LiftTablePrecision(
+        step_deg=math.degrees(program.step_rad),
+        unit=_output_unit(design),
+        resolution=program.resolution,
+        acceleration_noise_bound=program.acceleration_noise_bound,
+        max_abs_acceleration=float(np.max(np.abs(kin.acceleration))),
+    )

@@ -37,6 +37,7 @@ __all__ = [
     "DisplayCurves",
     "DisplayUnit",
     "DisplayUnits",
+    "analysis_notes",
     "display_analysis",
     "display_curves",
     "display_extremes",
@@ -305,3 +306,43 @@ def display_analysis(analysis: Analysis) -> AnalysisDisplay:
         travel,
         travel_unit,
     )
+
+
+def analysis_notes(analysis: Analysis) -> tuple[str, ...]:
+    """Return what the user must know to trust the numbers, in words and display units.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        Result of :func:`camtol.analysis.analyze`.
+
+    Returns
+    -------
+    tuple of str
+        For a lift table (:attr:`camtol.analysis.Analysis.lift_table`): that V, A, J come
+        from a spline through it, and how much its rounding can change A (lengths in mm,
+        an oscillating follower's angles in degrees); then :attr:`Analysis.notes`.
+    """
+    lt = analysis.lift_table
+    if lt is None:
+        return analysis.notes
+    unit, scale = ("°", _DEG) if lt.unit == "rad" else (" mm", 1.0)
+    notes = [
+        f"the motion is a lift table every {lt.step_deg:g}°: V, A and J are the derivatives"
+        " of a periodic cubic spline through it and depend on the table's precision"
+        " (THEORY §1, §6.1); J jumps at every tabulated angle"
+    ]
+    bound = lt.acceleration_noise_bound
+    if bound is not None and lt.resolution is not None:
+        notes.append(
+            f"the table is rounded to {lt.resolution * scale:g}{unit}: rounding alone can"
+            f" change the spline's A by up to 6Q/Δθ² = {bound * scale:.4g}{unit}/rad²"
+            " (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4),"
+            f" against max |A| = {lt.max_abs_acceleration * scale:.4g}{unit}/rad²"
+            + (
+                ""
+                if lt.derivatives_reliable
+                else "; ΔV and ΔA are NOT reliable at this precision: tabulate with more decimals"
+            )
+        )
+    return (*notes, *analysis.notes)

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.design import IT_CONVENTIONS, CamDesign
-from camtol.report.display import display_analysis
+from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.qa import (
     PRINT_CSS,
     TRACEABILITY_FIELDS,
@@ -343,7 +343,7 @@ def report_html(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
         )
-    parts += [f"<li><strong>Note:</strong> {_e(n)}</li>" for n in a.notes]
+    parts += [f"<li><strong>Note:</strong> {_e(n)}</li>" for n in analysis_notes(a)]
     parts.append("</ul>")
 
     parts.append("<h2>Extremes over 0-360°</h2>")

@@ -25,7 +25,7 @@ from camtol.design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.extremes import Extreme
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
-from camtol.report.display import display_analysis
+from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
@@ -239,7 +239,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
         "max_radius_mm": a.max_radius_mm,
         "travel": {"value": shown.travel, "unit": shown.travel_unit},
         "accuracy": accuracy_json(a.accuracy),
-        "notes": list(a.notes),
+        "notes": list(analysis_notes(a)),
         "motion": _motion_json(a),
         "cams": [_geometry_json(g) for g in a.geometry],
         "pressure_angle_exceeds_limit": a.pressure_angle_exceeds_limit,
@@ -530,7 +530,7 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
             style="bold red",
             markup=False,
         )
-    for note in a.notes:
+    for note in analysis_notes(a):
         con.print(f"Note: {note}.", style="yellow", markup=False)
     if verbose:
         con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim", markup=False)
