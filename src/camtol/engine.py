@@ -133,6 +133,58 @@ def _motion(
     return MotionState(*out)
 
 
+def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
+    """Mark the rows whose S, V, A and J all equal the previous row's (never the first)."""
+    s, v, a, j = motion.lift, motion.velocity, motion.acceleration, motion.jerk
+    same = np.zeros(s.shape, bool)
+    same[1:] = (s[1:] == s[:-1]) & (v[1:] == v[:-1]) & (a[1:] == a[:-1]) & (j[1:] == j[:-1])
+    return same
+
+
+def _motion_quantities(
+    mech: Mechanism,
+    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
+    repeats: NDArray[np.bool_] | None,
+) -> tuple[dict[str, JetLike], FloatArray]:
+    """Lean sensitivities and curvature radius of one chunk (θ, S, V, A, J).
+
+    With ``repeats`` (a :attr:`Mechanism.motion_only` mechanism), rows that repeat the
+    previous motion state are not evaluated but copied from the row before them: the
+    same numbers, a dwell costing one row.
+    """
+    t, s, v, acc, jerk = state
+    index = None
+    if repeats is not None and repeats.size:
+        fresh = ~repeats
+        fresh[0] = True
+        if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
+            keep = np.flatnonzero(fresh)
+            index = np.cumsum(fresh) - 1  # row -> its evaluated row
+            t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
+    sources = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
+    rho = mech.curvature_radius(t, s, v, acc)
+    if index is None:
+        return sources, rho
+    done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
+    for key, x in sources.items():
+        if id(x) not in done:
+            done[id(x)] = _spread(x, index)
+        sources[key] = done[id(x)]
+    return sources, np.asarray(_spread(rho, index))
+
+
+def _spread(x: JetLike, index: NDArray[np.intp]) -> JetLike:
+    """Rows ``index`` of a chunk's compressed values (a constant stays a constant)."""
+    if isinstance(x, Jet):
+        return Jet(*(np.asarray(_spread(p, index)) for p in (x.v, x.d1, x.d2)))
+    a = np.asarray(x)
+    if a.ndim == 0:
+        return x
+    if a.strides == (0,):
+        return np.broadcast_to(a[0], index.shape)
+    return a[index]
+
+
 def evaluate_engine(
     design: CamDesign,
     theta_rad: ArrayLike,
@@ -184,6 +236,9 @@ def evaluate_engine(
     cols = _Columns(n)
     plain: set[str] = set()
     q_is_velocity = False
+    # Rows whose motion state repeats the previous row's (dwells): what depends on the
+    # motion alone is evaluated once per run of them.
+    repeats = _repeated_states(motion) if mech.motion_only and not shared else None
     for a in range(0, n, max(int(chunk), 1)):
         at = slice(a, min(n, a + chunk))
         t, s, v = theta[at], motion.lift[at], motion.velocity[at]
@@ -192,15 +247,18 @@ def evaluate_engine(
         if shared:
             g = mech.contact(th, lift, vel)
             sources = dict(mech.sensitivities(g, th))
+            rho = mech.curvature_radius(t, s, v, acc)
         else:
             g = mech.contact(t, s, v)
-            sources = dict(mech.error_sensitivities(th, lift, vel))
+            sources, rho = _motion_quantities(
+                mech, (t, s, v, acc, jerk), None if repeats is None else repeats[at]
+            )
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         q_is_velocity = g.q is v
         values = {key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)}
         values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-        values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
+        values["curvature_radius"] = rho
         values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         for key, x in sources.items():
             if isinstance(x, Jet):

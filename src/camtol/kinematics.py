@@ -188,6 +188,7 @@ def kinematics(
     *,
     left_limit: ArrayLike | None = None,
     check: bool = True,
+    motion: MotionState | None = None,
 ) -> Kinematics:
     """Evaluate the analytic engine over θ (THEORY §2).
 
@@ -201,6 +202,10 @@ def kinematics(
         Rows that take the left limit at a segment boundary.
     check : bool
         Raise if the geometry cannot work (see Raises).
+    motion : MotionState, optional
+        The design's S, V, A, J at ``theta_rad`` (with ``left_limit``), when the caller
+        has them: the cams of a conjugate pair share one program. Evaluated otherwise.
+        [mm, or rad for an oscillating follower, per rad^k]
 
     Raises
     ------
@@ -211,7 +216,8 @@ def kinematics(
     """
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
-    motion = design.program.evaluate(theta, left_limit=left)
+    if motion is None:
+        motion = design.program.evaluate(theta, left_limit=left)
     if check:
         check_velocity_ratio(design, theta, motion)
     mech = design.mechanism
