@@ -145,8 +145,12 @@ def _motion_quantities(
     mech: Mechanism,
     state: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
     repeats: NDArray[np.bool_] | None,
+    *,
+    sources: bool = True,
 ) -> tuple[dict[str, JetLike], FloatArray]:
-    """Lean sensitivities and curvature radius of one chunk (θ, S, V, A, J).
+    """Lean sensitivities (unless not ``sources``) and curvature radius of one chunk.
+
+    ``state`` is (θ, S, V, A, J) of the chunk.
 
     With ``repeats`` (a :attr:`Mechanism.motion_only` mechanism), rows that repeat the
     previous motion state are not evaluated but copied from the row before them: the
@@ -161,16 +165,18 @@ def _motion_quantities(
             keep = np.flatnonzero(fresh)
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
             t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
-    sources = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
+    out: dict[str, JetLike] = {}
+    if sources:
+        out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     rho = mech.curvature_radius(t, s, v, acc)
     if index is None:
-        return sources, rho
+        return out, rho
     done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
-    for key, x in sources.items():
+    for key, x in out.items():
         if id(x) not in done:
             done[id(x)] = _spread(x, index)
-        sources[key] = done[id(x)]
-    return sources, np.asarray(_spread(rho, index))
+        out[key] = done[id(x)]
+    return out, np.asarray(_spread(rho, index))
 
 
 def _spread(x: JetLike, index: NDArray[np.intp]) -> JetLike:
@@ -192,6 +198,8 @@ def evaluate_engine(
     *,
     check: bool = True,
     chunk: int = CHUNK,
+    sensitivities: bool = True,
+    motion: MotionState | None = None,
 ) -> tuple[Kinematics, dict[str, Jet]]:
     """Kinematics and per-unit-deviation sensitivities (jets) on a grid, in one pass.
 
@@ -207,6 +215,12 @@ def evaluate_engine(
         Raise if the geometry cannot work, as :func:`camtol.kinematics.kinematics`.
     chunk : int
         Angles evaluated at once. [-]
+    sensitivities : bool
+        Also the sensitivities; without them, the kinematics alone (what
+        :func:`camtol.kinematics.kinematics` returns).
+    motion : MotionState, optional
+        The design's S, V, A, J at ``theta_rad`` when the caller has them (the cams of a
+        conjugate pair share one program); evaluated otherwise.
 
     Returns
     -------
@@ -226,12 +240,15 @@ def evaluate_engine(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
-    motion = _motion(design, theta, left, max(int(chunk), 1))
+    if motion is None:
+        motion = _motion(design, theta, left, max(int(chunk), 1))
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
     own = {src.key for src in mech.sources}
     design_keys = [t.key for t in design.tolerances if t.key not in own and t.key in DESIGN_SOURCES]
+    if not sensitivities:
+        shared, design_keys = False, []
     n = theta.size
     cols = _Columns(n)
     plain: set[str] = set()
@@ -239,11 +256,13 @@ def evaluate_engine(
     # Rows whose motion state repeats the previous row's (dwells): what depends on the
     # motion alone is evaluated once per run of them.
     repeats = _repeated_states(motion) if mech.motion_only and not shared else None
+    sources: dict[str, JetLike]
     for a in range(0, n, max(int(chunk), 1)):
         at = slice(a, min(n, a + chunk))
         t, s, v = theta[at], motion.lift[at], motion.velocity[at]
         acc, jerk = motion.acceleration[at], motion.jerk[at]
-        th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
+        if shared or design_keys:
+            th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
         if shared:
             g = mech.contact(th, lift, vel)
             sources = dict(mech.sensitivities(g, th))
@@ -251,7 +270,10 @@ def evaluate_engine(
         else:
             g = mech.contact(t, s, v)
             sources, rho = _motion_quantities(
-                mech, (t, s, v, acc, jerk), None if repeats is None else repeats[at]
+                mech,
+                (t, s, v, acc, jerk),
+                None if repeats is None else repeats[at],
+                sources=sensitivities,
             )
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
@@ -267,7 +289,7 @@ def evaluate_engine(
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
         cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at)
-        del g, sources, th, lift, vel, values
+        del g, sources, values
     c = cols
     kin = Kinematics(
         theta_rad=theta,
