@@ -15,6 +15,7 @@ from camtol.config import example_names, load_example
 from camtol.engine import evaluate_engine
 from camtol.errors import error_analysis
 from camtol.extremes import find_extremes
+from camtol.jet import Jet
 from camtol.kinematics import analysis_grid, kinematics
 
 EXAMPLES = example_names()
@@ -192,3 +193,51 @@ def test_nonfinite_callback_gets_the_first_bad_index() -> None:
     )
     assert seen == [("f", 7)]
     assert ext["f"][0].value == pytest.approx(1.0, abs=1e-9)
+
+
+def _cams_of_examples() -> list[tuple[str, str]]:
+    return [(name, cam.label) for name in EXAMPLES for cam in load_example(name).cams()]
+
+
+@pytest.mark.parametrize(("name", "label"), _cams_of_examples())
+def test_motion_only_followers_do_not_depend_on_theta(name: str, label: str) -> None:
+    """A follower that declares ``motion_only`` gives the same numbers at any θ."""
+    cam = next(c for c in load_example(name).cams() if c.label == label).design
+    mech = cam.mechanism
+    assert mech.motion_only, f"{type(mech).__name__} does not declare motion_only"
+    theta, left = analysis_grid(2.0, cam.program.boundaries_rad)
+    m = cam.program.evaluate(theta, left_limit=left)
+    lift, vel = Jet(m.lift, m.velocity, m.acceleration), Jet(m.velocity, m.acceleration, m.jerk)
+    turned = theta + 1.234  # the same motion states at other cam angles
+    a = mech.error_sensitivities(Jet.variable(theta), lift, vel)
+    b = mech.error_sensitivities(Jet.variable(turned), lift, vel)
+
+    def parts(x: object) -> tuple[object, ...]:  # a constant sensitivity is a plain array
+        return (x.v, x.d1, x.d2) if isinstance(x, Jet) else (x,)
+
+    for key in a:
+        for x, y in zip(parts(a[key]), parts(b[key]), strict=True):
+            np.testing.assert_array_equal(
+                np.broadcast_to(x, theta.shape), np.broadcast_to(y, theta.shape), err_msg=key
+            )
+    np.testing.assert_array_equal(
+        mech.curvature_radius(theta, m.lift, m.velocity, m.acceleration),
+        mech.curvature_radius(turned, m.lift, m.velocity, m.acceleration),
+    )
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_dwells_evaluated_once_give_the_same_numbers(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Evaluating a dwell's motion-only quantities once changes no number (bit for bit)."""
+    design = load_example(name).cams()[0].design
+    theta, left = analysis_grid(0.5, design.program.boundaries_rad)
+    k1, s1 = evaluate_engine(design, theta, left)
+    monkeypatch.setattr(type(design.mechanism), "motion_only", False)
+    k2, s2 = evaluate_engine(design, theta, left)
+    np.testing.assert_array_equal(k1.curvature_radius_mm, k2.curvature_radius_mm)
+    assert s1.keys() == s2.keys()
+    for key in s1:
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_array_equal(getattr(s1[key], part), getattr(s2[key], part))

@@ -39,3 +39,16 @@ def test_ndarray_times_jet_stays_a_jet() -> None:
     out = np.full(5, 2.0) * Jet.variable(t)
     assert isinstance(out, Jet)
     assert out.d1 == pytest.approx(2.0)
+
+
+def test_quotient_and_root_rules_match_the_chain_rule() -> None:
+    """f/g, c/g and √f (own rules, fewer operations) equal f·g⁻¹, c·g⁻¹ and f^½ via pow."""
+    rng = np.random.default_rng(7)
+    f = Jet(rng.uniform(1, 2, 50), rng.normal(size=50), rng.normal(size=50))
+    g = Jet(rng.uniform(1, 2, 50), rng.normal(size=50), rng.normal(size=50))
+    pairs = [(f / g, f * g**-1.0), (3.0 / g, 3.0 * g**-1.0), (jet.sqrt(f), f**0.5)]
+    for got, want in pairs:
+        assert isinstance(got, Jet)
+        for part in ("v", "d1", "d2"):
+            # different operation orders in double precision: a few ulps
+            np.testing.assert_allclose(getattr(got, part), getattr(want, part), rtol=1e-13)

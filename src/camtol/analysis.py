@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import NoReturn
 
 import numpy as np
+from numpy.typing import NDArray
 
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
@@ -26,7 +27,7 @@ from camtol.extremes import Extreme, find_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
-from camtol.motion import LiftTable
+from camtol.motion import LiftTable, MotionState
 from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
 
 __all__ = [
@@ -493,9 +494,10 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     check_design_geometry(design)
     cams = design.cams()
     cam = cams[0].design
-    others = tuple((c.label, _checked(c.label, c.design, step_deg)) for c in cams[1:])
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     kin, sens = evaluate_engine(cam, theta, left, check=False)
+    motion = MotionState(kin.lift, kin.velocity, kin.acceleration, kin.jerk)  # every cam's
+    others = tuple((c.label, _checked(c.label, c.design, theta, left, motion)) for c in cams[1:])
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
     tolerances = cam.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
@@ -562,11 +564,16 @@ def _geometry(
     )
 
 
-def _checked(label: str, design: CamDesign, step_deg: float) -> Kinematics:
+def _checked(
+    label: str,
+    design: CamDesign,
+    theta_rad: FloatArray,
+    left_limit: NDArray[np.bool_],
+    motion: MotionState,
+) -> Kinematics:
     """Kinematics of one further cam on the analysis grid, checked, the cam named."""
-    theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     try:
-        return kinematics(design, theta, left_limit=left, check=True)
+        return kinematics(design, theta_rad, left_limit=left_limit, check=True, motion=motion)
     except GeometryError as exc:  # same class (UndercutError stays one), cam named
         raise type(exc)(f"cam {label}: {exc}") from None
 

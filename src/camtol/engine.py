@@ -133,6 +133,64 @@ def _motion(
     return MotionState(*out)
 
 
+def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
+    """Mark the rows whose S, V, A and J all equal the previous row's (never the first)."""
+    s, v, a, j = motion.lift, motion.velocity, motion.acceleration, motion.jerk
+    same = np.zeros(s.shape, bool)
+    same[1:] = (s[1:] == s[:-1]) & (v[1:] == v[:-1]) & (a[1:] == a[:-1]) & (j[1:] == j[:-1])
+    return same
+
+
+def _motion_quantities(
+    mech: Mechanism,
+    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
+    repeats: NDArray[np.bool_] | None,
+    *,
+    sources: bool = True,
+) -> tuple[dict[str, JetLike], FloatArray]:
+    """Lean sensitivities (unless not ``sources``) and curvature radius of one chunk.
+
+    ``state`` is (θ, S, V, A, J) of the chunk.
+
+    With ``repeats`` (a :attr:`Mechanism.motion_only` mechanism), rows that repeat the
+    previous motion state are not evaluated but copied from the row before them: the
+    same numbers, a dwell costing one row.
+    """
+    t, s, v, acc, jerk = state
+    index = None
+    if repeats is not None and repeats.size:
+        fresh = ~repeats
+        fresh[0] = True
+        if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
+            keep = np.flatnonzero(fresh)
+            index = np.cumsum(fresh) - 1  # row -> its evaluated row
+            t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
+    out: dict[str, JetLike] = {}
+    if sources:
+        out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
+    rho = mech.curvature_radius(t, s, v, acc)
+    if index is None:
+        return out, rho
+    done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
+    for key, x in out.items():
+        if id(x) not in done:
+            done[id(x)] = _spread(x, index)
+        out[key] = done[id(x)]
+    return out, np.asarray(_spread(rho, index))
+
+
+def _spread(x: JetLike, index: NDArray[np.intp]) -> JetLike:
+    """Rows ``index`` of a chunk's compressed values (a constant stays a constant)."""
+    if isinstance(x, Jet):
+        return Jet(*(np.asarray(_spread(p, index)) for p in (x.v, x.d1, x.d2)))
+    a = np.asarray(x)
+    if a.ndim == 0:
+        return x
+    if a.strides == (0,):
+        return np.broadcast_to(a[0], index.shape)
+    return a[index]
+
+
 def evaluate_engine(
     design: CamDesign,
     theta_rad: ArrayLike,
@@ -140,6 +198,8 @@ def evaluate_engine(
     *,
     check: bool = True,
     chunk: int = CHUNK,
+    sensitivities: bool = True,
+    motion: MotionState | None = None,
 ) -> tuple[Kinematics, dict[str, Jet]]:
     """Kinematics and per-unit-deviation sensitivities (jets) on a grid, in one pass.
 
@@ -155,6 +215,12 @@ def evaluate_engine(
         Raise if the geometry cannot work, as :func:`camtol.kinematics.kinematics`.
     chunk : int
         Angles evaluated at once. [-]
+    sensitivities : bool
+        Also the sensitivities; without them, the kinematics alone (what
+        :func:`camtol.kinematics.kinematics` returns).
+    motion : MotionState, optional
+        The design's S, V, A, J at ``theta_rad`` when the caller has them (the cams of a
+        conjugate pair share one program); evaluated otherwise.
 
     Returns
     -------
@@ -174,33 +240,47 @@ def evaluate_engine(
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
-    motion = _motion(design, theta, left, max(int(chunk), 1))
+    if motion is None:
+        motion = _motion(design, theta, left, max(int(chunk), 1))
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
     own = {src.key for src in mech.sources}
     design_keys = [t.key for t in design.tolerances if t.key not in own and t.key in DESIGN_SOURCES]
+    if not sensitivities:
+        shared, design_keys = False, []
     n = theta.size
     cols = _Columns(n)
     plain: set[str] = set()
     q_is_velocity = False
+    # Rows whose motion state repeats the previous row's (dwells): what depends on the
+    # motion alone is evaluated once per run of them.
+    repeats = _repeated_states(motion) if mech.motion_only and not shared else None
+    sources: dict[str, JetLike]
     for a in range(0, n, max(int(chunk), 1)):
         at = slice(a, min(n, a + chunk))
         t, s, v = theta[at], motion.lift[at], motion.velocity[at]
         acc, jerk = motion.acceleration[at], motion.jerk[at]
-        th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
+        if shared or design_keys:
+            th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
         if shared:
             g = mech.contact(th, lift, vel)
             sources = dict(mech.sensitivities(g, th))
+            rho = mech.curvature_radius(t, s, v, acc)
         else:
             g = mech.contact(t, s, v)
-            sources = dict(mech.error_sensitivities(th, lift, vel))
+            sources, rho = _motion_quantities(
+                mech,
+                (t, s, v, acc, jerk),
+                None if repeats is None else repeats[at],
+                sources=sensitivities,
+            )
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         q_is_velocity = g.q is v
         values = {key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)}
         values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-        values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
+        values["curvature_radius"] = rho
         values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         for key, x in sources.items():
             if isinstance(x, Jet):
@@ -209,7 +289,7 @@ def evaluate_engine(
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
         cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at)
-        del g, sources, th, lift, vel, values
+        del g, sources, values
     c = cols
     kin = Kinematics(
         theta_rad=theta,

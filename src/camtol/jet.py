@@ -152,16 +152,38 @@ class Jet:
 
     def reciprocal(self) -> Jet:
         """Return 1/f."""
-        r = 1.0 / self.v
-        return self._chain(r, -r * r, 2.0 * r * r * r)
+        return self.__rtruediv__(1.0)
 
     def __truediv__(self, other: JetLike) -> Jet:
         if isinstance(other, Jet):
-            return self * other.reciprocal()
+            # The quotient rule on q = f/g itself: q' = (f' − q g')/g,
+            # q'' = (f'' − 2q'g' − q g'')/g; fewer operations than f·(1/g).
+            h = 1.0 / other.v
+            q = self.v * h
+            d1 = q * other.d1
+            np.subtract(self.d1, d1, out=d1)
+            d1 *= h
+            d2 = d1 * other.d1
+            d2 *= -2.0
+            d2 += self.d2
+            d2 -= q * other.d2
+            d2 *= h
+            return Jet(q, d1, d2)
         return Jet(self.v / other, self.d1 / other, self.d2 / other)
 
     def __rtruediv__(self, other: JetLike) -> Jet:
-        return self.reciprocal() * other
+        if isinstance(other, Jet):  # pragma: no cover - Jet / Jet uses __truediv__
+            return other / self
+        # c/g: q' = −q g'/g, q'' = −(2q'g' + q g'')/g
+        h = 1.0 / self.v
+        q = other * h
+        d1 = q * self.d1
+        d1 *= -h
+        d2 = d1 * self.d1
+        d2 *= 2.0
+        d2 += q * self.d2
+        d2 *= -h
+        return Jet(np.asarray(q), d1, d2)
 
     def __pow__(self, n: float) -> Jet:
         return self._chain(self.v**n, n * self.v ** (n - 1), n * (n - 1) * self.v ** (n - 2))
@@ -267,8 +289,15 @@ def sqrt(x: JetLike) -> JetLike:
         √x, a jet when ``x`` is one; NaN where x < 0. [√(unit of x)]
     """
     if isinstance(x, Jet):
+        # r = √f: r' = f'/(2r), r'' = (f''/2 − r'²)/r
         r = np.sqrt(x.v)
-        return x._chain(r, 0.5 / r, -0.25 / (r * x.v))
+        h = 1.0 / r
+        d1 = x.d1 * h
+        d1 *= 0.5
+        d2 = d1 * d1
+        np.subtract(0.5 * x.d2, d2, out=d2)
+        d2 *= h
+        return Jet(r, d1, d2)
     return np.sqrt(x)
 
 

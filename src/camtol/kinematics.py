@@ -1,8 +1,10 @@
 """The analytic engine's per-θ result (ARCHITECTURE.md; THEORY §2).
 
-:func:`kinematics` evaluates a design's mechanism over a θ grid with exact derivatives
-(second-order jets seeded from S, V, A, J), checks that the geometry can work, and returns
-plain arrays with units in their names.
+:func:`kinematics` evaluates a design's mechanism over a θ grid (through the engine,
+:func:`camtol.engine.evaluate_engine`, without sensitivities), checks that the geometry
+can work, and returns plain arrays with units in their names; a quantity that is the same
+constant at every angle is a read-only broadcast array. :func:`contact_jets` gives the
+contact geometry as jets (exact θ-derivatives seeded from S, V, A, J).
 """
 
 from __future__ import annotations
@@ -15,10 +17,9 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from camtol import jet
 from camtol.design import CamDesign
 from camtol.exceptions import GeometryError, PressureAngleWarning, UndercutError
-from camtol.jet import FloatArray, Jet, JetLike
+from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import ContactGeometry
 from camtol.motion import MotionState
 
@@ -178,16 +179,13 @@ def contact_jets(design: CamDesign, theta_rad: FloatArray, motion: MotionState) 
     return design.mechanism.contact(theta, lift, vel)
 
 
-def _val(x: JetLike) -> FloatArray:
-    return np.asarray(jet.value(x), dtype=float)
-
-
 def kinematics(
     design: CamDesign,
     theta_rad: ArrayLike,
     *,
     left_limit: ArrayLike | None = None,
     check: bool = True,
+    motion: MotionState | None = None,
 ) -> Kinematics:
     """Evaluate the analytic engine over θ (THEORY §2).
 
@@ -201,6 +199,10 @@ def kinematics(
         Rows that take the left limit at a segment boundary.
     check : bool
         Raise if the geometry cannot work (see Raises).
+    motion : MotionState, optional
+        The design's S, V, A, J at ``theta_rad`` (with ``left_limit``), when the caller
+        has them: the cams of a conjugate pair share one program. Evaluated otherwise.
+        [mm, or rad for an oscillating follower, per rad^k]
 
     Raises
     ------
@@ -209,38 +211,13 @@ def kinematics(
     UndercutError
         Radius of curvature ≤ 0 (cusp or undercut) anywhere on the grid.
     """
-    theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-    left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
-    motion = design.program.evaluate(theta, left_limit=left)
-    if check:
-        check_velocity_ratio(design, theta, motion)
-    mech = design.mechanism
-    g = mech.contact(theta, motion.lift, motion.velocity)
-    rho = mech.curvature_radius(theta, motion.lift, motion.velocity, motion.acceleration)
-    ax, ay = _val(g.contact_x), _val(g.contact_y)
-    kin = Kinematics(
-        theta_rad=theta,
-        left_limit=left,
-        lift=motion.lift,
-        velocity=motion.velocity,
-        acceleration=motion.acceleration,
-        jerk=motion.jerk,
-        contact_x_mm=ax,
-        contact_y_mm=ay,
-        radius_mm=np.hypot(ax, ay),
-        centre_x_mm=_val(g.centre_x),
-        centre_y_mm=_val(g.centre_y),
-        q_mm=_val(g.q),
-        pressure_angle_rad=_val(g.pressure_angle) + np.zeros_like(theta),
-        shift_angle_rad=_val(g.shift_angle),
-        curvature_radius_mm=rho,
-        face_contact_mm=_val(g.extras["face_contact"]) if "face_contact" in g.extras else None,
-        follower_angle_rad=(
-            _val(g.extras["follower_angle"]) if "follower_angle" in g.extras else None
-        ),
+    # One implementation of the analytic engine: evaluate_engine without sensitivities
+    # (chunked, dwells evaluated once); it builds on this module's types.
+    from camtol.engine import evaluate_engine
+
+    kin, _ = evaluate_engine(
+        design, theta_rad, left_limit, check=check, sensitivities=False, motion=motion
     )
-    if check:
-        check_geometry(design, kin)
     return kin
 
 

@@ -46,10 +46,9 @@ from camtol.mechanisms.roller_oscillating import (
     check_arm_reaches_prime_circle,
     oscillating_roller_contact,
     oscillating_roller_lean_sensitivities,
-    oscillating_roller_pitch,
+    oscillating_roller_pitch_curvature_radius,
     oscillating_roller_sensitivities,
 )
-from camtol.mechanisms.roller_translating import pitch_curvature_radius
 
 __all__ = ["ConjugateCamB", "ConjugatePair"]
 
@@ -87,6 +86,7 @@ class ConjugateCamB(RollerMechanism):
     initial_angle_rad: float
 
     kind: ClassVar[str] = "conjugate_cam_b"
+    motion_only: ClassVar[bool] = True
     output: ClassVar[OutputKind] = "oscillating"
     sources: ClassVar[tuple[ErrorSource, ...]] = (
         ErrorSource("r", "radial profile error Δr_B", "mm"),
@@ -156,15 +156,15 @@ class ConjugateCamB(RollerMechanism):
         acceleration: FloatArray,
     ) -> FloatArray:
         """Signed profile radius of curvature ρ = ρ_pitch − r_D (> 0 convex). [mm]"""
-        theta = Jet.variable(np.asarray(theta_rad, float))
         s = Jet(
             np.asarray(lift, float), np.asarray(velocity, float), np.asarray(acceleration, float)
         )
-        cx, cy = oscillating_roller_pitch(
-            theta, self.arm_angle(s), self.pivot_distance_mm, self.arm_length_mm, self.side
+        gamma = self.arm_angle(s)
+        assert isinstance(gamma, Jet)
+        rho_pitch = oscillating_roller_pitch_curvature_radius(
+            gamma, self.pivot_distance_mm, self.arm_length_mm, self.side
         )
-        assert isinstance(cx, Jet) and isinstance(cy, Jet)
-        return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
+        return rho_pitch - self.roller_radius_mm
 
     def contact_element(self) -> RollerGuide:
         """Return roller D on arm B (ξ = η − γ); S = 0 at ξ0 of the pair."""

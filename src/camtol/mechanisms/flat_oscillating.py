@@ -82,6 +82,7 @@ class FlatOscillating(Mechanism):
     face_offset_mm: float = 0.0
 
     kind: ClassVar[str] = "flat_oscillating"
+    motion_only: ClassVar[bool] = True
     listing_order: ClassVar[int] = 2
     output: ClassVar[OutputKind] = "oscillating"
     title: ClassVar[str] = "oscillating flat-faced"

@@ -76,6 +76,7 @@ class FlatTranslating(Mechanism):
     face_angle_rad: float = 0.0
 
     kind: ClassVar[str] = "flat_translating"
+    motion_only: ClassVar[bool] = True
     listing_order: ClassVar[int] = 1
     output: ClassVar[OutputKind] = "translating"
     title: ClassVar[str] = "translating oblique flat-faced"

@@ -11,11 +11,11 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol.jet import FloatArray
+from camtol.jet import FloatArray, Jet, JetLike, Real
 from camtol.mechanisms.base import Mechanism
 from camtol.mechanisms.elements import Outline, point
 
-__all__ = ["RollerMechanism", "roller_undercut_mask"]
+__all__ = ["RollerMechanism", "pitch_curvature_radius", "roller_undercut_mask"]
 
 
 def roller_undercut_mask(
@@ -38,6 +38,48 @@ def roller_undercut_mask(
     """
     rho = np.asarray(curvature_radius_mm, dtype=float)
     return np.asarray((rho <= 0.0) & (rho > -roller_radius_mm))
+
+
+def _parts(x: JetLike) -> tuple[Real, Real, Real]:
+    """(f, f', f'') of a jet; a constant has zero derivatives."""
+    return (x.v, x.d1, x.d2) if isinstance(x, Jet) else (x, 0.0, 0.0)
+
+
+def pitch_curvature_radius(cx: JetLike, cy: JetLike) -> FloatArray:
+    r"""Signed radius of curvature of the pitch curve from the follower's frame. [mm]
+
+    Parameters
+    ----------
+    cx, cy : JetLike
+        Roller centre c in the frame of the line of centres (x along O2 → follower), as
+        θ-jets of the motion (a constant coordinate may be a float). [mm, mm/rad, mm/rad²]
+
+    Returns
+    -------
+    ndarray
+        ρ_pitch = |P'|³ / (P' × P''), > 0 where the pitch curve turns counterclockwise
+        (convex, THEORY §0); ±inf at an inflection. [mm]
+
+    Notes
+    -----
+    The cam frame sees the roller centre at P(θ) = R(θ) c(θ) (kinematic inversion,
+    THEORY §0), so P' = R(θ)(c' + Jc) and P'' = R(θ)(c'' + 2Jc' − c) with J the
+    quarter turn (x, y) → (−y, x). A rotation keeps lengths and cross products, hence
+
+    .. math:: ρ = \frac{|c' + Jc|^3}{(c' + Jc) × (c'' + 2Jc' − c)}
+
+    which depends on the motion state (S, V, A) alone: no sine or cosine of θ, and the
+    same value wherever the follower dwells. For a translating roller, c = (s0 + S, e)
+    gives the classical (V − e)(2V − e) − (s0 + S)(A − s0 − S) in the denominator.
+    """
+    x, x1, x2 = _parts(cx)
+    y, y1, y2 = _parts(cy)
+    ux, uy = x1 - y, y1 + x
+    wx, wy = x2 - 2.0 * y1 - x, y2 + 2.0 * x1 - y
+    speed = np.hypot(ux, uy)
+    cross = ux * wy - uy * wx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.asarray(speed**3 / cross)
 
 
 class RollerMechanism(Mechanism):

@@ -35,8 +35,7 @@ from camtol.mechanisms.base import (
     require_positive,
     shift_angle,
 )
-from camtol.mechanisms.roller_common import RollerMechanism
-from camtol.mechanisms.roller_translating import pitch_curvature_radius
+from camtol.mechanisms.roller_common import RollerMechanism, pitch_curvature_radius
 
 __all__ = [
     "RollerOscillating",
@@ -44,6 +43,7 @@ __all__ = [
     "oscillating_roller_contact",
     "oscillating_roller_lean_sensitivities",
     "oscillating_roller_pitch",
+    "oscillating_roller_pitch_curvature_radius",
     "oscillating_roller_sensitivities",
 ]
 
@@ -73,6 +73,37 @@ def oscillating_roller_pitch(
     return (
         pivot_mm * jet.cos(theta) - arm_mm * jet.cos(beta),
         pivot_mm * jet.sin(theta) - arm_mm * jet.sin(beta),
+    )
+
+
+def oscillating_roller_pitch_curvature_radius(
+    gamma: Jet, pivot_mm: float, arm_mm: float, side: int
+) -> FloatArray:
+    """Signed radius of curvature of an oscillating roller's pitch curve (THEORY §2.4). [mm]
+
+    Parameters
+    ----------
+    gamma : Jet
+        Arm angle at O3 from O3O2 with its θ-derivatives: ξ (cam A) or η − ξ (cam B).
+        [rad, rad/rad, rad/rad²]
+    pivot_mm, arm_mm : float
+        Centre distance f and arm length l. [mm]
+    side : {-1, +1}
+        −1 cam A, +1 cam B (see :func:`oscillating_roller_pitch`).
+
+    Returns
+    -------
+    ndarray
+        ρ_pitch, > 0 convex. [mm]
+
+    Notes
+    -----
+    In the frame of the line of centres the roller centre is
+    c = (f − l cos γ, −side·l sin γ) (:func:`oscillating_roller_pitch` turned back by θ);
+    :func:`~camtol.mechanisms.roller_common.pitch_curvature_radius` does the rest.
+    """
+    return pitch_curvature_radius(
+        pivot_mm - arm_mm * jet.cos(gamma), (-side * arm_mm) * jet.sin(gamma)
     )
 
 
@@ -314,6 +345,7 @@ class RollerOscillating(RollerMechanism):
     arm_length_mm: float
 
     kind: ClassVar[str] = "roller_oscillating"
+    motion_only: ClassVar[bool] = True
     listing_order: ClassVar[int] = 4
     output: ClassVar[OutputKind] = "oscillating"
     title: ClassVar[str] = "oscillating roller"
@@ -400,15 +432,13 @@ class RollerOscillating(RollerMechanism):
         acceleration: FloatArray,
     ) -> FloatArray:
         """Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]"""
-        theta = Jet.variable(np.asarray(theta_rad, float))
         xi = self.initial_angle_rad + Jet(
             np.asarray(lift, float), np.asarray(velocity, float), np.asarray(acceleration, float)
         )
-        cx, cy = oscillating_roller_pitch(
-            theta, xi, self.pivot_distance_mm, self.arm_length_mm, self.side
+        rho_pitch = oscillating_roller_pitch_curvature_radius(
+            xi, self.pivot_distance_mm, self.arm_length_mm, self.side
         )
-        assert isinstance(cx, Jet) and isinstance(cy, Jet)
-        return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
+        return rho_pitch - self.roller_radius_mm
 
     def contact_element(self) -> RollerGuide:
         """Return the roller on its arm (cam A side); S = 0 at ξ0."""

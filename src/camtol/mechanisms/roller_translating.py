@@ -32,34 +32,13 @@ from camtol.mechanisms.base import (
     require_positive,
     shift_angle,
 )
-from camtol.mechanisms.roller_common import RollerMechanism, roller_undercut_mask
+from camtol.mechanisms.roller_common import (
+    RollerMechanism,
+    pitch_curvature_radius,
+    roller_undercut_mask,
+)
 
-__all__ = ["RollerTranslating", "pitch_curvature_radius", "roller_undercut_mask"]
-
-
-def pitch_curvature_radius(cx: Jet, cy: Jet) -> FloatArray:
-    r"""Signed radius of curvature of a curve given as θ-jets (> 0 turning counterclockwise). [mm]
-
-    Parameters
-    ----------
-    cx, cy : Jet
-        Curve coordinates with their first and second θ-derivatives. [mm, mm/rad, mm/rad²]
-
-    Returns
-    -------
-    ndarray
-        ρ = |C'|³ / (C' × C''); ±inf at an inflection. [mm]
-
-    Notes
-    -----
-    The pitch curve of a cam traced with increasing θ runs counterclockwise seen from the
-    cam (THEORY §0), so a convex pitch curve has ρ > 0.
-    """
-    d1x, d1y, d2x, d2y = cx.d1, cy.d1, cx.d2, cy.d2
-    speed = np.hypot(d1x, d1y)
-    cross = d1x * d2y - d1y * d2x
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.asarray(speed**3 / cross)
+__all__ = ["RollerTranslating", "roller_undercut_mask"]
 
 
 @register_follower
@@ -93,6 +72,7 @@ class RollerTranslating(RollerMechanism):
     offset_mm: float = 0.0
 
     kind: ClassVar[str] = "roller_translating"
+    motion_only: ClassVar[bool] = True
     listing_order: ClassVar[int] = 3
     output: ClassVar[OutputKind] = "translating"
     title: ClassVar[str] = "translating roller"
@@ -232,14 +212,17 @@ class RollerTranslating(RollerMechanism):
         velocity: FloatArray,
         acceleration: FloatArray,
     ) -> FloatArray:
-        """Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]"""
-        theta = Jet.variable(np.asarray(theta_rad, float))
-        s = Jet(
-            np.asarray(lift, float), np.asarray(velocity, float), np.asarray(acceleration, float)
+        """Signed profile radius of curvature ρ = ρ_pitch − r_f (> 0 convex). [mm]
+
+        The roller centre in the follower's frame is c = (s0 + S, e)
+        (:func:`~camtol.mechanisms.roller_common.pitch_curvature_radius`).
+        """
+        axial = Jet(
+            self.s0_mm + np.asarray(lift, float),
+            np.asarray(velocity, float),
+            np.asarray(acceleration, float),
         )
-        cx, cy = self.pitch_point(theta, s)
-        assert isinstance(cx, Jet) and isinstance(cy, Jet)
-        return pitch_curvature_radius(cx, cy) - self.roller_radius_mm
+        return pitch_curvature_radius(axial, self.offset_mm) - self.roller_radius_mm
 
     def contact_element(self) -> RollerGuide:
         """Return the roller on its line of motion; S = 0 at the axial position s0."""
