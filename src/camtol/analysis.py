@@ -27,13 +27,19 @@ from camtol.extremes import Extreme, find_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
-from camtol.motion import LiftTable, MotionState
-from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
+from camtol.motion import MotionState
+from camtol.summary import (
+    CamGeometry,
+    LiftTablePrecision,
+    MotionPeaks,
+    cam_geometry,
+    lift_table_precision,
+    motion_peaks,
+)
 
 __all__ = [
     "Analysis",
     "Curves",
-    "LiftTablePrecision",
     "Quantity",
     "analyse",
     "analyze",
@@ -65,43 +71,6 @@ class Quantity:
     key: str
     label: str
     unit: str
-
-
-@dataclass(frozen=True)
-class LiftTablePrecision:
-    """How the precision of a lift table limits its derivatives (THEORY §1, §6.1).
-
-    V, A and J of a lift table are the derivatives of a periodic cubic spline through
-    it: rounding the table to a quantum Q alone can change A by up to 6Q/Δθ²
-    (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4).
-
-    Attributes
-    ----------
-    step_deg : float
-        Step of the table. [deg]
-    unit : str
-        Unit of the lift: ``mm``, or ``rad`` for an oscillating follower.
-    resolution : float or None
-        Quantum Q the table is rounded to, None when its values carry full precision.
-        [mm, or rad]
-    acceleration_noise_bound : float or None
-        6Q/Δθ², the largest change of A that the rounding can cause, None without a
-        resolution. [mm/rad², or rad/rad²]
-    max_abs_acceleration : float
-        max |A| of the spline on the analysis grid. [mm/rad², or rad/rad²]
-    """
-
-    step_deg: float
-    unit: str
-    resolution: float | None
-    acceleration_noise_bound: float | None
-    max_abs_acceleration: float
-
-    @property
-    def derivatives_reliable(self) -> bool:
-        """False when the rounding bound exceeds 5 % of max |A| (ΔV, ΔA not reliable)."""
-        bound = self.acceleration_noise_bound
-        return bound is None or not bound > 0.05 * self.max_abs_acceleration
 
 
 @dataclass(frozen=True)
@@ -544,7 +513,7 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         others,
         _geometry(design, kin, others),
         motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
-        _lift_table(design, kin),
+        lift_table_precision(design.program, kin, output=design.mechanism.output),
     )
 
 
@@ -592,17 +561,3 @@ def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and
 #: of the ``camtol analyze`` command).
 analyse = analyze
-
-
-def _lift_table(design: CamDesign, kin: Kinematics) -> LiftTablePrecision | None:
-    """Return what the precision of a lift table does to its derivatives (None for laws)."""
-    program = design.program
-    if not isinstance(program, LiftTable):
-        return None
-    return LiftTablePrecision(
-        step_deg=math.degrees(program.step_rad),
-        unit=_output_unit(design),
-        resolution=program.resolution,
-        acceleration_noise_bound=program.acceleration_noise_bound,
-        max_abs_acceleration=float(np.max(np.abs(kin.acceleration))),
-    )
