@@ -498,22 +498,21 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     else:
         accuracy = iso286.grade_of_angle_deviation(worst * _DEG_PER_RAD, math.degrees(travel))
     return Analysis(
-        design,
-        step_deg,
-        kin,
-        err,
-        tolerances,
-        quantities,
-        curves,
-        extremes,
-        rmax,
-        travel,
-        accuracy,
-        (),
-        others,
-        _geometry(design, kin, others),
-        motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
-        lift_table_precision(design.program, kin, output=design.mechanism.output),
+        design=design,
+        step_deg=step_deg,
+        kinematics=kin,
+        errors=err,
+        tolerances=tolerances,
+        quantities=quantities,
+        curves=curves,
+        extremes=extremes,
+        max_radius_mm=rmax,
+        travel=travel,
+        accuracy=accuracy,
+        other_cams=others,
+        geometry=_geometry(design, kin, others),
+        motion=motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
+        lift_table=lift_table_precision(design.program, kin, output=design.mechanism.output),
     )
 
 
