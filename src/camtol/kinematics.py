@@ -37,6 +37,10 @@ __all__ = [
 class Kinematics:
     """Kinematics of a cam design on a θ grid.
 
+    Treat the arrays as read-only: a quantity that is the same constant at every angle
+    (the pressure angle of a translating flat face, say) is a read-only broadcast view,
+    and arrays may be shared with the analysis grid's cache. Copy before changing one.
+
     Attributes
     ----------
     theta_rad : ndarray

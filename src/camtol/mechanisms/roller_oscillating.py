@@ -263,8 +263,8 @@ def oscillating_roller_lean_sensitivities(
     """
     f, l_, rf = pivot_mm, arm_mm, roller_mm
     k = -float(side)
-    q = f * velocity / (1.0 - velocity)
-    fq = q + f
+    fq = f / (1.0 - velocity)  # f + q, q = fV/(1 − V)
+    q = fq - f
     sin_g, cos_g = jet.sin(gamma), jet.cos(gamma)
     d = fq - l_ * cos_g
     ls = l_ * sin_g
