@@ -18,6 +18,7 @@ from camtol.config import (
 )
 from camtol.exceptions import ConfigError
 from camtol.motion import LiftTable
+from camtol.report.display import analysis_notes
 
 try:
     import tomllib
@@ -175,5 +176,7 @@ def test_lift_table_precision_is_reported(tmp_path: Path, decimals: int, reliabl
     a = analyse(design_from_mapping(data, base_dir=tmp_path), step_deg=1.0)
     assert isinstance(a.design.program, LiftTable)
     assert a.design.program.resolution == pytest.approx(10.0**-decimals)
-    assert any(f"rounded to {10.0**-decimals:g} mm" in n for n in a.notes)
-    assert any("NOT reliable" in n for n in a.notes) is not reliable
+    notes = analysis_notes(a)  # the report's words for a.lift_table
+    assert any(f"rounded to {10.0**-decimals:g} mm" in n for n in notes)
+    assert any("NOT reliable" in n for n in notes) is not reliable
+    assert a.lift_table is not None and a.lift_table.derivatives_reliable is reliable

@@ -86,13 +86,17 @@ def test_constant_quantities_are_broadcast_not_stored() -> None:
     assert sens["e"].v.strides == (0,) and sens["e"].d1.strides == (0,)
 
 
-def test_curves_are_display_conversions_of_internal_results() -> None:
+def test_curves_are_the_internal_results() -> None:
     a = analyse(load_example("cw06-translating"), step_deg=1.0)
     assert list(a.curves) == list(dict.fromkeys(a.curves))  # keys once each
     assert {q.key for q in a.quantities} <= set(a.curves)
+    assert all(a.curves.unit(q.key) == q.unit for q in a.quantities)
     src = a.errors.sources["phi"]
-    np.testing.assert_allclose(a.curves["dS_phi"], src.sensitivity * src.deviation * 1e3)
-    np.testing.assert_allclose(a.curves["dS_worst"], a.errors.worst_lift * 1e3)
+    np.testing.assert_allclose(a.curves["dS_phi"], src.sensitivity * src.deviation)
+    np.testing.assert_allclose(a.curves["dS_phi"], src.delta_lift, rtol=1e-15)
+    np.testing.assert_allclose(a.curves["dA_phi"], src.delta_acceleration, rtol=1e-15)
+    np.testing.assert_array_equal(a.curves["dS_worst"], a.errors.worst_lift)
+    assert a.curves["pressure_angle"] is a.kinematics.pressure_angle_rad
     worst = sum(np.abs(s.delta_acceleration) for s in a.errors.sources.values())
     np.testing.assert_allclose(a.errors.worst_acceleration, worst, rtol=1e-15)
     rms = np.sqrt(sum(s.delta_velocity**2 for s in a.errors.sources.values()))

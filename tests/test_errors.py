@@ -12,6 +12,7 @@ from camtol.config import load_example
 from camtol.design import ResolvedTolerance
 from camtol.errors import error_analysis
 from camtol.extremes import find_extremes
+from camtol.report.display import display_analysis, display_curves
 
 
 @pytest.mark.parametrize("name", ["cw06-translating", "cw06-oscillating"])
@@ -40,10 +41,16 @@ def test_speed_scales_velocity_and_acceleration_errors() -> None:
     fast = dataclasses.replace(design, speed_rpm=600.0)
     a1, a2 = analyse(design, step_deg=1.0), analyse(fast, step_deg=1.0)
     omega = 600 * 2 * math.pi / 60
-    assert a2.curves["dV_phi"] == pytest.approx(a1.curves["dV_phi"] * omega)
-    assert a2.curves["dA_phi"] == pytest.approx(a1.curves["dA_phi"] * omega**2)
-    assert a2.curves["dS_phi"] == pytest.approx(a1.curves["dS_phi"])
-    units = {q.key: q.unit for q in a2.quantities}
+    # The analysis stays per radian of cam angle (internal units): a speed changes nothing.
+    for key in ("dS_phi", "dV_phi", "dA_phi"):
+        np.testing.assert_array_equal(a2.curves[key], a1.curves[key])
+    assert [q.unit for q in a2.quantities] == [q.unit for q in a1.quantities]
+    # The report shows them per second: ω and ω² (THEORY §3).
+    c1, c2 = display_curves(a1), display_curves(a2)
+    assert c2["dV_phi"] == pytest.approx(c1["dV_phi"] * omega)
+    assert c2["dA_phi"] == pytest.approx(c1["dA_phi"] * omega**2)
+    assert c2["dS_phi"] == pytest.approx(c1["dS_phi"])
+    units = {q.key: q.unit for q in display_analysis(a2).quantities}
     assert units["dV_worst"] == "um/s" and units["dA_worst"] == "um/s2"
 
 

@@ -14,6 +14,8 @@ import pytest
 
 from camtol.analysis import Analysis, analyse
 from camtol.config import load_example
+from camtol.extremes import Extreme
+from camtol.report.display import display_analysis, display_curves, display_extremes
 
 
 @pytest.fixture(scope="module")
@@ -24,6 +26,12 @@ def ex1() -> Analysis:
 @pytest.fixture(scope="module")
 def ex2() -> Analysis:
     return analyse(load_example("cw06-oscillating"))
+
+
+@pytest.fixture(scope="module")
+def shown1(ex1: Analysis) -> dict[str, tuple[Extreme, Extreme]]:
+    """Example 1's extremes in the paper's units (µm, degrees), as camtol reports them."""
+    return display_extremes(ex1)
 
 
 def _unit_of_last_digit(printed: str) -> float:
@@ -51,9 +59,9 @@ TABLE_8_1 = [
 
 @pytest.mark.parametrize(("quantity", "kind", "theta", "value"), TABLE_8_1)
 def test_cw06_example1_table_extremes(
-    ex1: Analysis, quantity: str, kind: str, theta: str, value: str
+    shown1: dict[str, tuple[Extreme, Extreme]], quantity: str, kind: str, theta: str, value: str
 ) -> None:
-    ext = ex1.extremes[quantity][0 if kind == "max" else 1]
+    ext = shown1[quantity][0 if kind == "max" else 1]
     assert ext.ranges_deg == ()
     # one unit of the last printed digit (values) and 0.01° (angles): THEORY §8.1
     assert ext.value == pytest.approx(float(value), abs=_unit_of_last_digit(value))
@@ -61,20 +69,25 @@ def test_cw06_example1_table_extremes(
 
 
 @pytest.mark.parametrize(("quantity", "value"), [("radial_factor", "1.0353"), ("dS_r", "19.67")])
-def test_cw06_example1_dwell_plateaus(ex1: Analysis, quantity: str, value: str) -> None:
+def test_cw06_example1_dwell_plateaus(
+    shown1: dict[str, tuple[Extreme, Extreme]], quantity: str, value: str
+) -> None:
     # Table rows "120-190" and "290-360": the maximum is held over both dwells.
-    ext = ex1.extremes[quantity][0]
+    ext = shown1[quantity][0]
     assert ext.value == pytest.approx(float(value), abs=_unit_of_last_digit(value))
     flat = [x for r in ext.ranges_deg for x in r]
     assert flat == pytest.approx([120.0, 190.0, 290.0, 360.0], abs=1e-6)
 
 
-def test_cw06_example1_constant_offset_error(ex1: Analysis) -> None:
-    # ΔS_e = −2.41 µm everywhere (printed to 0.01 µm).
-    mx, mn = ex1.extremes["dS_e"]
+def test_cw06_example1_constant_offset_error(
+    ex1: Analysis, shown1: dict[str, tuple[Extreme, Extreme]]
+) -> None:
+    # ΔS_e = −2.41 µm everywhere (printed to 0.01 µm); internally in mm.
+    mx, mn = shown1["dS_e"]
     assert mx.value == pytest.approx(-2.41, abs=0.01)
     assert mn.value == mx.value
     assert mx.ranges_deg == ((0.0, 360.0),)
+    assert ex1.extremes["dS_e"][0].value == pytest.approx(mx.value * 1e-3, rel=1e-15)
 
 
 def test_cw06_example1_max_radius_and_grade(ex1: Analysis) -> None:
@@ -93,8 +106,9 @@ def test_cw06_example1_velocity_acceleration_errors(ex1: Analysis) -> None:
     """ΔA_φ jumps at every start and end of a motion; ΔA_r is smooth; ΔV_e = ΔA_e = 0."""
     theta = ex1.kinematics.theta_rad
     left = ex1.kinematics.left_limit
-    assert ex1.curves["dV_e"] == pytest.approx(0.0, abs=1e-12)
-    assert ex1.curves["dA_e"] == pytest.approx(0.0, abs=1e-12)
+    curves = display_curves(ex1)  # µm/rad: the tolerances below are in display units
+    assert curves["dV_e"] == pytest.approx(0.0, abs=1e-12)
+    assert curves["dA_e"] == pytest.approx(0.0, abs=1e-12)
     for b_deg in (0.0, 120.0, 190.0, 290.0):
         b = math.radians(b_deg) if b_deg else 2 * math.pi
         i_left = int(((abs(theta - b) < 1e-12) & left).nonzero()[0][0])
@@ -102,11 +116,11 @@ def test_cw06_example1_velocity_acceleration_errors(ex1: Analysis) -> None:
             i_right = 0
         else:
             i_right = int(((abs(theta - b) < 1e-12) & ~left).nonzero()[0][0])
-        jump_phi = abs(ex1.curves["dA_phi"][i_right] - ex1.curves["dA_phi"][i_left])
-        jump_r = abs(ex1.curves["dA_r"][i_right] - ex1.curves["dA_r"][i_left])
-        scale = max(abs(ex1.curves["dA_phi"]).max(), 1e-12)
+        jump_phi = abs(curves["dA_phi"][i_right] - curves["dA_phi"][i_left])
+        jump_r = abs(curves["dA_r"][i_right] - curves["dA_r"][i_left])
+        scale = max(abs(curves["dA_phi"]).max(), 1e-12)
         assert jump_phi > 0.2 * scale, b_deg  # a real jump, not smeared
-        assert jump_r < 1e-9 * max(abs(ex1.curves["dA_r"]).max(), 1.0), b_deg
+        assert jump_r < 1e-9 * max(abs(curves["dA_r"]).max(), 1.0), b_deg
 
 
 def test_cw06_example2_hand_checkable_invariants(ex2: Analysis) -> None:
@@ -123,7 +137,8 @@ def test_cw06_example2_hand_checkable_invariants(ex2: Analysis) -> None:
         "e": 11.0,
     }
     # Reported in degrees; every acceleration error jumps at each start and end of a motion.
-    assert ex2.error_unit == "deg"
+    assert display_analysis(ex2).error_unit == "deg"
+    assert {q.unit for q in ex2.quantities if q.key.startswith("dS_")} == {"rad"}  # internal
     for key in ("dA_r", "dA_f", "dA_e"):
         theta, left = ex2.kinematics.theta_rad, ex2.kinematics.left_limit
         for b_deg in (120.0, 160.0, 280.0):
@@ -137,6 +152,7 @@ def test_cw06_example2_hand_checkable_invariants(ex2: Analysis) -> None:
 
 def test_cw06_example2_sign_of_face_offset_error(ex2: Analysis) -> None:
     # THEORY §3.2: moving the face away from the cam centre makes the follower swing back,
-    # so ΔS_e < 0 and ΔS_f has the sign of −sin ξ (ξ in (0, 90°) here).
+    # so ΔS_e < 0 and ΔS_f has the sign of −sin ξ (ξ in (0, 90°) here). Internal rad and
+    # displayed degrees have the same sign.
     assert ex2.extremes["dS_e"][0].value < 0
     assert ex2.extremes["dS_f"][0].value < 0

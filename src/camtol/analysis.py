@@ -1,9 +1,10 @@
-"""`analyse`: everything the analytic engine says about a design, in display units.
+"""`analyse`: everything the analytic engine says about a design, in internal units.
 
-Internal units are mm and rad (THEORY §0). Tables, files and the terminal use µm for
-length errors of a translating follower, degrees for angles and for the output errors of
-an oscillating follower; derivatives are per radian of cam angle, or per second when the
-design gives a cam speed. :class:`Analysis` records the unit of every quantity.
+Every result is in the internal units of THEORY §0: lengths in mm, angles in rad,
+derivatives per radian of cam angle (``mm/rad``, ``rad/rad2``). :class:`Analysis`
+records the unit of every quantity (:attr:`Quantity.unit`). Display units (µm, degrees,
+per second at the design's cam speed) are the report layer's business
+(:mod:`camtol.report.display`), so nothing here is scaled for a reader.
 """
 
 from __future__ import annotations
@@ -26,13 +27,19 @@ from camtol.extremes import Extreme, find_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
-from camtol.motion import LiftTable, MotionState
-from camtol.summary import CamGeometry, MotionPeaks, cam_geometry, motion_peaks
+from camtol.motion import MotionState
+from camtol.summary import (
+    CamGeometry,
+    LiftTablePrecision,
+    MotionPeaks,
+    cam_geometry,
+    lift_table_precision,
+    motion_peaks,
+)
 
 __all__ = [
     "Analysis",
     "Curves",
-    "DisplayUnits",
     "Quantity",
     "analyse",
     "analyze",
@@ -41,11 +48,25 @@ __all__ = [
 
 #: Default analysis grid step. [deg]
 DEFAULT_STEP_DEG = 0.1
+#: Degrees per radian, for the ISO 286 angle table (which is in degrees). [deg/rad]
+_DEG_PER_RAD = 180.0 / math.pi
 
 
 @dataclass(frozen=True)
 class Quantity:
-    """A reported quantity: key, label (with symbol) and display unit."""
+    """A reported quantity: key, label (with symbol) and internal unit.
+
+    Attributes
+    ----------
+    key : str
+        Key in :attr:`Analysis.curves` and :attr:`Analysis.extremes`, e.g. ``"dS_worst"``.
+    label : str
+        Name with its symbol, e.g. ``"ΔS worst case"``.
+    unit : str
+        ASCII internal unit (THEORY §0): ``mm``, ``rad``, ``-``, ``rad/mm``; the output
+        errors in ``mm`` (translating follower) or ``rad`` (oscillating), their
+        derivatives per radian of cam angle (``mm/rad``, ``rad/rad2``).
+    """
 
     key: str
     label: str
@@ -69,19 +90,20 @@ class Analysis:
     tolerances : tuple of ResolvedTolerance
         Deviations used, with how each was obtained.
     quantities : tuple of Quantity
-        Reported quantities, in report order.
+        Reported quantities, in report order, with their internal units.
     curves : Curves
-        Every quantity on the grid in its display unit (a mapping computed when read).
+        Every quantity on the grid in its internal unit (a mapping computed when read).
     extremes : dict of str to (Extreme, Extreme)
-        Global (max, min) of every quantity.
+        Global (max, min) of every quantity of :attr:`quantities`, in its internal unit.
     max_radius_mm : float
         Maximum radial dimension of the profile. [mm]
     travel : float
-        Total follower travel. [mm, or deg for an oscillating follower]
+        Total follower travel. [mm, or rad for an oscillating follower: :attr:`travel_unit`]
     accuracy : iso286.GradeBracket
         IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
     notes : tuple of str
-        What the user must know to trust the numbers (e.g. a lift table's precision).
+        Further caveats in words (none today; the report adds those of
+        :attr:`lift_table`, see :func:`camtol.report.display.analysis_notes`).
     other_cams : tuple of (str, Kinematics)
         The kinematics of the design's further cams (cam B of a conjugate pair) on the
         same grid, by label; see :meth:`cam_kinematics`.
@@ -91,6 +113,8 @@ class Analysis:
     motion : MotionPeaks or None
         Peak V, A, J of the nominal follower motion (per radian; SI at the design speed
         with :meth:`MotionPeaks.at_speed`).
+    lift_table : LiftTablePrecision or None
+        For a motion given as a lift table: how its precision limits V, A and J.
     """
 
     design: CamDesign
@@ -135,6 +159,7 @@ class Analysis:
 
     geometry: tuple[CamGeometry, ...] = ()
     motion: MotionPeaks | None = None
+    lift_table: LiftTablePrecision | None = None
 
     @property
     def pressure_angle_exceeds_limit(self) -> bool:
@@ -142,59 +167,14 @@ class Analysis:
         return any(g.exceeds_pressure_angle_limit for g in self.geometry)
 
     @property
-    def error_unit(self) -> str:
-        """Display unit of ΔS: ``um`` (translating) or ``deg`` (oscillating)."""
-        return DisplayUnits.of(self.design).lift
-
-    @property
     def travel_unit(self) -> str:
-        """Unit of :attr:`travel`: ``mm`` or ``deg``."""
-        return "mm" if self.design.mechanism.output == "translating" else "deg"
+        """Internal unit of :attr:`travel` and of ΔS: ``mm`` or ``rad`` (oscillating)."""
+        return _output_unit(self.design)
 
 
-@dataclass(frozen=True)
-class DisplayUnits:
-    """Display units of the output errors and the factors from internal units.
-
-    Attributes
-    ----------
-    lift, velocity, acceleration : str
-        Unit keys of ΔS, ΔV, ΔA: ``um``, ``um/rad`` or ``um/s``, ``um/rad2`` or
-        ``um/s2`` for a translating follower; ``deg...`` for an oscillating one.
-    lift_scale, velocity_scale, acceleration_scale : float
-        Factors from the internal unit (mm or rad, per rad^k of cam angle) to those
-        units; with a cam speed ω they include ω and ω².
-    """
-
-    lift: str
-    velocity: str
-    acceleration: str
-    lift_scale: float
-    velocity_scale: float
-    acceleration_scale: float
-
-    @classmethod
-    def of(cls, design: CamDesign) -> DisplayUnits:
-        """Return the display units of a design's output errors.
-
-        Parameters
-        ----------
-        design : CamDesign
-            The design (its follower's output and its cam speed).
-
-        Returns
-        -------
-        DisplayUnits
-            µm or ° for ΔS; per rad, or per s when the design gives a speed.
-        """
-        if design.mechanism.output == "translating":
-            unit, scale = "um", 1e3
-        else:
-            unit, scale = "deg", 180.0 / math.pi
-        omega = design.omega_rad_s
-        if omega is None:
-            return cls(unit, f"{unit}/rad", f"{unit}/rad2", scale, scale, scale)
-        return cls(unit, f"{unit}/s", f"{unit}/s2", scale, scale * omega, scale * omega**2)
+def _output_unit(design: CamDesign) -> str:
+    """Return the internal unit of the follower's output (S, ΔS): ``mm`` or ``rad``."""
+    return "mm" if design.mechanism.output == "translating" else "rad"
 
 
 def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> float:
@@ -234,36 +214,56 @@ def _refined_max_radius(
 def _quantities(
     design: CamDesign, tolerances: tuple[ResolvedTolerance, ...]
 ) -> tuple[Quantity, ...]:
-    units = DisplayUnits.of(design)
-    unit, vunit, aunit = units.lift, units.velocity, units.acceleration
+    out = _output_unit(design)
     mech = design.mechanism
     q = [
-        Quantity("pressure_angle", "pressure angle φ", "deg"),
-        Quantity("shift_angle", "shift angle λ", "deg"),
+        Quantity("pressure_angle", "pressure angle φ", "rad"),
+        Quantity("shift_angle", "shift angle λ", "rad"),
         Quantity("radius", "radial dimension |O2A|", "mm"),
         Quantity("curvature_radius", "radius of curvature ρ", "mm"),
     ]
     if mech.has_face:
         q.append(Quantity("face_contact", "contact on face u", "mm"))
-    factor_unit = "-" if mech.output == "translating" else "deg/mm"
-    q.append(Quantity("radial_factor", mech.radial_factor_label, factor_unit))
+    q.append(Quantity("radial_factor", mech.radial_factor_label, _radial_factor_unit(design)))
     for t in tolerances:
-        q.append(Quantity(f"dS_{t.key}", f"ΔS_{t.key} ({t.display})", unit))
+        q.append(Quantity(f"dS_{t.key}", f"ΔS_{t.key} ({t.display})", out))
     q += [
-        Quantity("dS_worst", "ΔS worst case", unit),
-        Quantity("dS_rms", "ΔS RMS", unit),
-        Quantity("dV_worst", "ΔV worst case", vunit),
-        Quantity("dA_worst", "ΔA worst case", aunit),
+        Quantity("dS_worst", "ΔS worst case", out),
+        Quantity("dS_rms", "ΔS RMS", out),
+        Quantity("dV_worst", "ΔV worst case", f"{out}/rad"),
+        Quantity("dA_worst", "ΔA worst case", f"{out}/rad2"),
     ]
     return tuple(q)
 
 
-class Curves(Mapping[str, FloatArray]):
-    """Every reported quantity on the grid in its display unit, computed when read.
+def _radial_factor_unit(design: CamDesign) -> str:
+    """Return the internal unit of ΔS_r/Δr: ``-`` (translating) or ``rad/mm``."""
+    return "-" if design.mechanism.output == "translating" else "rad/mm"
 
-    Nothing is stored but references to the internal-unit results, so a fine grid costs
-    no second copy of every curve; each look-up returns a new array (or the kinematics'
-    own array when no conversion is needed).
+
+#: Internal unit of each fixed (non-error) curve; ``radial_factor`` depends on the output.
+_FIXED_UNITS = {
+    "pressure_angle": "rad",
+    "shift_angle": "rad",
+    "radius": "mm",
+    "curvature_radius": "mm",
+    "face_contact": "mm",
+}
+
+
+class Curves(Mapping[str, FloatArray]):
+    """Every reported quantity on the grid in its internal unit, computed when read.
+
+    Nothing is stored but references to the internal results, so a fine grid costs no
+    second copy of every curve: a look-up returns the kinematics' or the error
+    analysis' own array, or (a source's ΔS, ΔV, ΔA: its sensitivity × its deviation) a
+    new one. :meth:`scaled` gives a curve times a factor in one multiplication (what a
+    display conversion needs, without an intermediate copy).
+
+    Keys: ``pressure_angle``, ``shift_angle``, ``radius``, ``curvature_radius``,
+    ``radial_factor``, ``face_contact`` (flat face), then ``dS_<source>``,
+    ``dV_<source>``, ``dA_<source>`` for every source and ``dS_worst``, ``dS_rms``,
+    ``dV_worst``, ``dV_rms``, ``dA_worst``, ``dA_rms``; :meth:`unit` gives each unit.
     """
 
     def __init__(
@@ -278,53 +278,61 @@ class Curves(Mapping[str, FloatArray]):
         keys += ["dS_worst", "dS_rms", "dV_worst", "dV_rms", "dA_worst", "dA_rms"]
         self._keys = tuple(keys)
 
-    def internal(self, key: str) -> tuple[FloatArray, float]:
-        """(internal-unit array, factor to the display unit) of a quantity.
+    def unit(self, key: str) -> str:
+        """Return the internal unit of a curve (as :attr:`Quantity.unit`).
 
         Parameters
         ----------
         key : str
-            Quantity key, e.g. ``"dS_worst"``.
+            Curve key, e.g. ``"dV_phi"``.
 
         Returns
         -------
-        tuple of (ndarray, float)
-            The curve is ``array * factor``; for a source's ΔS, ΔV, ΔA the array is its
-            sensitivity and the factor includes the deviation (it may be negative).
-        """
-        return self._array(key), self.factor(key)
+        str
+            ASCII unit: ``mm``, ``rad``, ``-``, ``rad/mm``; ``mm``/``rad`` for ΔS,
+            per ``rad`` for ΔV and per ``rad2`` for ΔA (of cam angle).
 
-    def factor(self, key: str) -> float:
-        """Factor from the internal array of :meth:`internal` to the display unit.
-
-        Parameters
-        ----------
-        key : str
-            Quantity key.
-
-        Returns
-        -------
-        float
-            Display value = internal value × factor. [display unit per internal unit]
+        Raises
+        ------
+        KeyError
+            If there is no such curve.
         """
         if key not in self._keys:
             raise KeyError(key)
-        deg = 180.0 / math.pi
-        if key in ("pressure_angle", "shift_angle"):
-            return deg
-        if key in ("radius", "curvature_radius", "face_contact"):
-            return 1.0
+        if key in _FIXED_UNITS:
+            return _FIXED_UNITS[key]
         if key == "radial_factor":
-            return 1.0 if self._design.mechanism.output == "translating" else deg
-        u = DisplayUnits.of(self._design)
-        scale, vscale, ascale = u.lift_scale, u.velocity_scale, u.acceleration_scale
-        prefix, name = key.split("_", 1)
-        factor = (scale, vscale, ascale)["SVA".index(prefix[1])]
-        if name in ("worst", "rms"):
-            return factor
-        return factor * self._err.sources[name].deviation
+            return _radial_factor_unit(self._design)
+        out = _output_unit(self._design)
+        return (out, f"{out}/rad", f"{out}/rad2")["SVA".index(key[1])]
 
-    def _array(self, key: str) -> FloatArray:
+    def scaled(self, key: str, factor: float) -> FloatArray:
+        """Return a curve times a factor, computed in one multiplication.
+
+        Parameters
+        ----------
+        key : str
+            Curve key.
+        factor : float
+            Factor applied to the internal-unit curve (e.g. to a display unit).
+
+        Returns
+        -------
+        ndarray
+            ``curves[key] * factor``; the stored array itself when that factor is 1 (do
+            not modify it). A source's curve is its sensitivity × (deviation × factor).
+
+        Raises
+        ------
+        KeyError
+            If there is no such curve.
+        """
+        base, deviation = self._base(key)
+        f = factor * deviation if deviation is not None else factor
+        return base if f == 1.0 else np.asarray(base * f)
+
+    def _base(self, key: str) -> tuple[FloatArray, float | None]:
+        """Return (stored array, the source's deviation or None); the curve is their product."""
         if key not in self._keys:
             raise KeyError(key)
         kin, err = self._kin, self._err
@@ -339,19 +347,19 @@ class Curves(Mapping[str, FloatArray]):
         if key in fixed:
             out = fixed[key]
             assert out is not None
-            return out
+            return out, None
         prefix, name = key.split("_", 1)
         order = "SVA".index(prefix[1])
         if name == "worst":
-            return err.worst(order)
+            return err.worst(order), None
         if name == "rms":
-            return err.rms(order)
+            return err.rms(order), None
         src = err.sources[name]
-        return np.asarray((src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order])
+        sens = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
+        return np.asarray(sens), src.deviation
 
     def __getitem__(self, key: str) -> FloatArray:
-        array, factor = self.internal(key)
-        return array if factor == 1.0 else np.asarray(array * factor)
+        return self.scaled(key, 1.0)
 
     def __iter__(self) -> Iterator[str]:
         return iter(self._keys)
@@ -367,7 +375,11 @@ def _extremes(
     theta_rad: FloatArray,
     step_deg: float,
 ) -> dict[str, tuple[Extreme, Extreme]]:
-    """Extremes of the display curves, found on the internal arrays and then converted.
+    """Extremes of the curves (internal units).
+
+    A source's ΔS, ΔV, ΔA are its sensitivity × its deviation: the search runs on the
+    sensitivity (no product array) and the extremes are then multiplied by the
+    deviation, max and min swapped when it is negative.
 
     Raises
     ------
@@ -378,14 +390,14 @@ def _extremes(
     """
     keys = [q.key for q in quantities]
     labels = {q.key: q.label for q in quantities}
-    factors = {k: curves.factor(k) for k in keys}
+    factors = {k: curves._base(k)[1] for k in keys}  # a source's deviation, else None
 
-    def values(c: Curves) -> dict[str, FloatArray]:
-        return {k: c._array(k) if factors[k] != 0.0 else c[k] for k in keys}
+    def pick(c: Curves, key: str) -> FloatArray:
+        return c[key] if factors[key] == 0.0 else c._base(key)[0]
 
     class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
         def __getitem__(self, key: str) -> FloatArray:
-            return curves._array(key) if factors[key] != 0.0 else curves[key]
+            return pick(curves, key)
 
         def __iter__(self) -> Iterator[str]:
             return iter(keys)
@@ -396,22 +408,20 @@ def _extremes(
     def nonfinite(key: str, i: int) -> None:
         _not_finite(labels[key], float(curves[key][i]), float(theta_rad[i]))
 
-    found = find_extremes(
-        theta_rad,
-        _Lazy(),
-        lambda t: values(evaluate(t)),
-        step_deg=step_deg,
-        on_nonfinite=nonfinite,
-    )
+    def values(t: FloatArray) -> dict[str, FloatArray]:
+        c = evaluate(t)
+        return {k: pick(c, k) for k in keys}
+
+    found = find_extremes(theta_rad, _Lazy(), values, step_deg=step_deg, on_nonfinite=nonfinite)
     out = {}
     for key, (hi, lo) in found.items():
         f = factors[key]
-        if f == 0.0:
+        if f is None or f == 0.0:
             out[key] = (hi, lo)
             continue
         if f < 0.0:
             hi, lo = lo, hi
-        for e in (hi, lo):  # finite internal values may still overflow the display unit
+        for e in (hi, lo):  # finite sensitivities × a deviation may still overflow
             if not math.isfinite(e.value * f):
                 _not_finite(labels[key], e.value * f, math.radians(e.theta_deg))
         out[key] = (
@@ -480,28 +490,29 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     quantities = _quantities(cam, tolerances)
     err = errors_from_sensitivities(theta, left, sens, tolerances)
     curves = Curves(cam, kin, err, sens["r"].v)
+    travel = design.program.total_travel  # [mm or rad]
+    worst = extremes["dS_worst"][0].value  # [mm or rad]
+    # ISO 286 tabulates µm against mm, and angles in degrees (THEORY §3.6).
     if design.mechanism.output == "translating":
-        travel = design.program.total_travel
-        accuracy = iso286.grade_of_deviation(extremes["dS_worst"][0].value, travel)
+        accuracy = iso286.grade_of_deviation(worst * 1e3, travel)
     else:
-        travel = math.degrees(design.program.total_travel)
-        accuracy = iso286.grade_of_angle_deviation(extremes["dS_worst"][0].value, travel)
+        accuracy = iso286.grade_of_angle_deviation(worst * _DEG_PER_RAD, math.degrees(travel))
     return Analysis(
-        design,
-        step_deg,
-        kin,
-        err,
-        tolerances,
-        quantities,
-        curves,
-        extremes,
-        rmax,
-        travel,
-        accuracy,
-        _notes(design, kin),
-        others,
-        _geometry(design, kin, others),
-        motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
+        design=design,
+        step_deg=step_deg,
+        kinematics=kin,
+        errors=err,
+        tolerances=tolerances,
+        quantities=quantities,
+        curves=curves,
+        extremes=extremes,
+        max_radius_mm=rmax,
+        travel=travel,
+        accuracy=accuracy,
+        other_cams=others,
+        geometry=_geometry(design, kin, others),
+        motion=motion_peaks(kin, output=design.mechanism.output, omega_rad_s=design.omega_rad_s),
+        lift_table=lift_table_precision(design.program, kin, output=design.mechanism.output),
     )
 
 
@@ -549,33 +560,3 @@ def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and
 #: of the ``camtol analyze`` command).
 analyse = analyze
-
-
-def _notes(design: CamDesign, kin: Kinematics) -> tuple[str, ...]:
-    """Caveats on the numbers: a lift table's derivatives depend on its precision."""
-    program = design.program
-    if not isinstance(program, LiftTable):
-        return ()
-    oscillating = design.mechanism.output == "oscillating"
-    unit, scale = ("°", 180.0 / math.pi) if oscillating else (" mm", 1.0)
-    step = math.degrees(program.step_rad)
-    notes = [
-        f"the motion is a lift table every {step:g}°: V, A and J are the derivatives of a"
-        " periodic cubic spline through it and depend on the table's precision"
-        " (THEORY §1, §6.1); J jumps at every tabulated angle"
-    ]
-    bound = program.acceleration_noise_bound
-    if bound is not None and program.resolution is not None:
-        a_max = float(np.max(np.abs(kin.acceleration)))
-        notes.append(
-            f"the table is rounded to {program.resolution * scale:g}{unit}: rounding alone can"
-            f" change the spline's A by up to 6Q/Δθ² = {bound * scale:.4g}{unit}/rad²"
-            " (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4),"
-            f" against max |A| = {a_max * scale:.4g}{unit}/rad²"
-            + (
-                "; ΔV and ΔA are NOT reliable at this precision: tabulate with more decimals"
-                if bound > 0.05 * a_max
-                else ""
-            )
-        )
-    return tuple(notes)

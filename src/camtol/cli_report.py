@@ -400,7 +400,10 @@ def report(
             sections=sections,
         )
         verdict = overall_verdict(a, fixture)
-        worst = a.extremes["dS_worst"][0]
+        from camtol.report.display import display_analysis
+
+        shown = display_analysis(a)
+        worst = shown.extremes["dS_worst"][0]
         status = EXIT_FAIL if verdict.inspected and not verdict.passed and not no_fail else EXIT_OK
         if as_json:
             from camtol.report.tables import accuracy_json
@@ -413,7 +416,7 @@ def report(
                     "inspected": verdict.inspected,
                     "reasons": list(verdict.reasons),
                 },
-                "max_worst_case": {"value": worst.value, "unit": a.error_unit},
+                "max_worst_case": {"value": worst.value, "unit": shown.error_unit},
                 "accuracy": accuracy_json(a.accuracy),
             }
             if fixture is not None and fixture.inspection.verdicts:

@@ -43,7 +43,8 @@ class Extreme:
     kind : {"max", "min"}
         Which extreme.
     value : float
-        The extreme value, in the quantity's display unit.
+        The extreme value, in the unit of the values searched (internal units for
+        :attr:`camtol.analysis.Analysis.extremes`; see :mod:`camtol.report.display`).
     theta_deg : float
         Where it occurs (the first place, for a plateau). [deg]
     ranges_deg : tuple of (float, float)
@@ -118,7 +119,7 @@ def find_extremes(
     theta_rad : ndarray
         Analysis grid (may hold left/right limits at boundaries). [rad]
     values : mapping of str to ndarray
-        Each quantity sampled on the grid, in its display unit.
+        Each quantity sampled on the grid (any unit; the extremes are in the same).
     evaluate : callable
         ``evaluate(theta_rad) -> {quantity: values}`` at arbitrary angles (right limits);
         called at most twice, on all refinement windows at once.

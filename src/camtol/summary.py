@@ -22,8 +22,17 @@ from numpy.typing import NDArray
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics
 from camtol.mechanisms.base import Mechanism
+from camtol.motion import LiftTable, MotionProgram
 
-__all__ = ["CamGeometry", "MotionPeaks", "Peak", "cam_geometry", "motion_peaks"]
+__all__ = [
+    "CamGeometry",
+    "LiftTablePrecision",
+    "MotionPeaks",
+    "Peak",
+    "cam_geometry",
+    "lift_table_precision",
+    "motion_peaks",
+]
 
 #: Standard gravity, for accelerations quoted in g. [m/s²]
 STANDARD_GRAVITY = 9.80665
@@ -257,4 +266,72 @@ def cam_geometry(
         undercut=bool(np.any(mechanism.undercut_mask(rho))),
         convex_limit=convex_limit,
         concave_limit=concave_limit,
+    )
+
+
+@dataclass(frozen=True)
+class LiftTablePrecision:
+    """How the precision of a lift table limits its derivatives (THEORY §1, §6.1).
+
+    V, A and J of a lift table are the derivatives of a periodic cubic spline through
+    it: rounding the table to a quantum Q alone can change A by up to 6Q/Δθ²
+    (alternating ±Q/2; 3× the second-difference bound 2Q/Δθ² of [CDH] eq. 10.4).
+
+    Attributes
+    ----------
+    step_deg : float
+        Step of the table. [deg]
+    unit : str
+        Unit of the lift: ``mm``, or ``rad`` for an oscillating follower.
+    resolution : float or None
+        Quantum Q the table is rounded to, None when its values carry full precision.
+        [mm, or rad]
+    acceleration_noise_bound : float or None
+        6Q/Δθ², the largest change of A that the rounding can cause, None without a
+        resolution. [mm/rad², or rad/rad²]
+    max_abs_acceleration : float
+        max |A| of the spline on the analysis grid. [mm/rad², or rad/rad²]
+    """
+
+    step_deg: float
+    unit: str
+    resolution: float | None
+    acceleration_noise_bound: float | None
+    max_abs_acceleration: float
+
+    @property
+    def derivatives_reliable(self) -> bool:
+        """False when the rounding bound exceeds 5 % of max |A| (ΔV, ΔA not reliable)."""
+        bound = self.acceleration_noise_bound
+        return bound is None or not bound > 0.05 * self.max_abs_acceleration
+
+
+def lift_table_precision(
+    program: MotionProgram, kin: Kinematics, *, output: Literal["translating", "oscillating"]
+) -> LiftTablePrecision | None:
+    """Return what the precision of a lift table does to its derivatives (THEORY §6.1).
+
+    Parameters
+    ----------
+    program : MotionProgram
+        The design's motion program.
+    kin : Kinematics
+        The analytic engine's kinematics of the design on the analysis grid.
+    output : {"translating", "oscillating"}
+        The follower's output: the lift is in mm or rad.
+
+    Returns
+    -------
+    LiftTablePrecision or None
+        For a :class:`~camtol.motion.LiftTable`: its step, resolution, rounding bound
+        on A and max |A|; None for a program of motion laws.
+    """
+    if not isinstance(program, LiftTable):
+        return None
+    return LiftTablePrecision(
+        step_deg=math.degrees(program.step_rad),
+        unit="mm" if output == "translating" else "rad",
+        resolution=program.resolution,
+        acceleration_noise_bound=program.acceleration_noise_bound,
+        max_abs_acceleration=float(np.max(np.abs(kin.acceleration))),
     )

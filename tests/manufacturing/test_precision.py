@@ -13,6 +13,7 @@ from camtol.config import design_from_mapping, load_example
 from camtol.exceptions import DesignError
 from camtol.manufacturing.precision import table_precision
 from camtol.motion import LiftTable
+from camtol.report.display import analysis_notes
 from camtol.table_noise import spline_acceleration_gain, spline_acceleration_response
 
 E_MM = 5.0
@@ -123,7 +124,9 @@ def test_lift_table_note_states_a_bound_that_holds() -> None:
     actual = np.max(np.abs(d.program.evaluate(theta).acceleration - E_MM * np.cos(theta)))
     assert actual == pytest.approx(14.82, abs=0.01)
     assert actual <= bound + E_MM * math.radians(1.0) ** 2  # rounding bound + truncation
-    note = " ".join(analyse(d, step_deg=1.0).notes)
+    a = analyse(d, step_deg=1.0)
+    note = " ".join(analysis_notes(a))
+    assert a.lift_table is not None and a.lift_table.acceleration_noise_bound == bound
     assert "6Q/Δθ²" in note and f"{bound:.4g}" in note
 
 

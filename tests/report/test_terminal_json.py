@@ -14,6 +14,7 @@ from camtol.analysis import analyse
 from camtol.cli import main
 from camtol.config import load_example
 from camtol.examples import example_text
+from camtol.report.display import display_extremes
 from camtol.summary import STANDARD_GRAVITY
 
 
@@ -113,7 +114,7 @@ def test_fits_80_columns(example: str) -> None:
     # every angle range of the table is whole on one line
     wheres = {
         w
-        for key, (mx, mn) in a.extremes.items()
+        for key, (mx, mn) in display_extremes(a).items()
         if key != "curvature_radius"  # not in the table: see the convex/concave rows
         for w in (*mx.where.split(", "), *mn.where.split(", "))
     }

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.qa import (
     PRINT_CSS,
     TRACEABILITY_FIELDS,
@@ -164,12 +165,13 @@ def _traceability(design: CamDesign, given: dict[str, str] | None) -> list[list[
 def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     d = a.design
     k = a.kinematics
-    worst = a.extremes["dS_worst"][0]
-    rho = a.extremes["curvature_radius"][1]
+    shown = display_analysis(a)
+    worst = shown.extremes["dS_worst"][0]
+    rho = shown.extremes["curvature_radius"][1]
     pa = float(np.degrees(np.max(np.abs(k.pressure_angle_rad))))
     items = [
-        f"Output accuracy: max |ΔS worst case| = {_quantity(worst.value, a.error_unit)}"
-        f" at θ = {worst.where} over a travel of {_quantity(a.travel, a.travel_unit)}:"
+        f"Output accuracy: max |ΔS worst case| = {_quantity(worst.value, shown.error_unit)}"
+        f" at θ = {worst.where} over a travel of {_quantity(shown.travel, shown.travel_unit)}:"
         f" <strong>{_e(a.accuracy.describe())}</strong> (THEORY §3.6).",
         f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
         ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
@@ -341,13 +343,14 @@ def report_html(
             "<li>conjugate pair: the single-contact errors, extremes and figures are cam A's"
             " (roller C); the cam drawing shows both cams</li>"
         )
-    parts += [f"<li><strong>Note:</strong> {_e(n)}</li>" for n in a.notes]
+    parts += [f"<li><strong>Note:</strong> {_e(n)}</li>" for n in analysis_notes(a)]
     parts.append("</ul>")
 
     parts.append("<h2>Extremes over 0-360°</h2>")
     erows = []
-    for q in a.quantities:
-        mx, mn = a.extremes[q.key]
+    shown = display_analysis(a)
+    for q in shown.quantities:
+        mx, mn = shown.extremes[q.key]
         erows.append([q.label, _pretty(q.unit), _fmt(mx.value), mx.where, _fmt(mn.value), mn.where])
     parts.append(_table(["quantity", "unit", "max", "at θ", "min", "at θ"], erows, {2, 4}))
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from camtol.jet import FloatArray
 from camtol.report._figstyle import _legend_outside, _stamp
+from camtol.report.display import DisplayUnits, display_curves, display_extremes
 from camtol.report.plot_style import COLOURS as _COLOURS
 from camtol.report.plot_style import axes, pretty_unit
 from camtol.report.plot_style import axes as _axes
@@ -104,7 +105,7 @@ def shift_angle_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     made_here = ax is None
     ax = _axes(ax)
     t = _theta_deg(analysis)
-    c = analysis.curves
+    c = display_curves(analysis)
     arts: list[Any] = []
     arts += ax.plot(t, c["shift_angle"], color=_COLOURS[0], label="shift angle λ")
     arts += ax.plot(t, c["pressure_angle"], color=_COLOURS[3], ls="--", label="pressure angle φ")
@@ -149,9 +150,10 @@ def radial_factor_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     """
     made_here = ax is None
     ax = _axes(ax)
-    unit = next(q.unit for q in analysis.quantities if q.key == "radial_factor")
+    curves = display_curves(analysis)
+    unit = curves.unit("radial_factor").unit
     symbol = "cos λ / cos φ" if analysis.design.mechanism.output == "translating" else "ΔS_r/Δr"
-    arts = list(ax.plot(_theta_deg(analysis), analysis.curves["radial_factor"], color="k"))
+    arts = list(ax.plot(_theta_deg(analysis), curves["radial_factor"], color="k"))
     ax.set_ylabel(_label(symbol, unit))
     ax.set_title("Radial-error factor ΔS_r/Δr")
     _theta_axis(ax)
@@ -166,7 +168,8 @@ def _error_plot(
     ax = _axes(ax)
     t = _theta_deg(analysis)
     arts: list[Any] = []
-    worst = analysis.curves[f"{prefix}_worst"]
+    curves = display_curves(analysis)
+    worst = curves[f"{prefix}_worst"]
     if analysis.errors.sources and not combined:  # the worst-case envelope ±Σ|ΔX_p|
         arts.append(
             ax.fill_between(
@@ -176,13 +179,13 @@ def _error_plot(
     for i, key in enumerate(_source_keys(analysis)):
         arts += ax.plot(
             t,
-            analysis.curves[f"{prefix}_{key}"],
+            curves[f"{prefix}_{key}"],
             color=_COLOURS[i % len(_COLOURS)],
             label=f"{prefix}_{_source_label(analysis, key)}".replace("d", "Δ", 1),
         )
     if combined:
         arts += ax.plot(t, worst, "k-", lw=1.6, label="worst case")
-        arts += ax.plot(t, analysis.curves[f"{prefix}_rms"], "k--", lw=1.2, label="RMS")
+        arts += ax.plot(t, curves[f"{prefix}_rms"], "k--", lw=1.2, label="RMS")
     ax.axhline(0.0, color="0.5", lw=0.6)
     symbol = prefix.replace("d", "Δ", 1)
     ax.set_ylabel(_label(symbol, unit))
@@ -205,7 +208,7 @@ def _error_plot(
 
 
 def _unit_of(analysis: Analysis, key: str) -> str:
-    return next(q.unit for q in analysis.quantities if q.key == key)
+    return display_curves(analysis).unit(key).unit
 
 
 def lift_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
@@ -487,7 +490,7 @@ def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Fi
 
     fig = Figure(figsize=(14.0, 20.0), layout="constrained")
     gs = fig.add_gridspec(4, 2, height_ratios=(1.4, 1.0, 1.0, 1.0))
-    worst = analysis.extremes["dS_worst"][0]
+    worst = display_extremes(analysis)["dS_worst"][0]
     if drawing is None:
         raise TypeError("analysis_figure needs the drawing (camtol.drawing.analysis_drawing)")
     cam_plot(drawing, ax=fig.add_subplot(gs[0, 0]))
@@ -501,7 +504,7 @@ def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Fi
     acceleration_error_plot(analysis, ax=fig.add_subplot(gs[3, 1]))
     fig.suptitle(
         f"{analysis.design.name}: max worst-case ΔS {worst.value:.4g}"
-        f" {pretty_unit(analysis.error_unit)} at θ = {worst.theta_deg:.2f}°,"
+        f" {pretty_unit(DisplayUnits.of(analysis.design).lift)} at θ = {worst.theta_deg:.2f}°,"
         f" {analysis.accuracy.describe()} (camtol {__version__})"
     )
     return fig

@@ -25,6 +25,7 @@ from camtol.design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.extremes import Extreme
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
+from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
@@ -220,6 +221,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
     """
     k = a.kinematics
     mech = a.design.mechanism
+    shown = display_analysis(a)
     out: dict[str, Any] = {
         "schema_version": SCHEMA_VERSION,
         "command": "analyze",
@@ -235,9 +237,9 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
         "conventions": list(IT_CONVENTIONS),
         "tolerances": [_tolerance_json(t) for t in a.tolerances],
         "max_radius_mm": a.max_radius_mm,
-        "travel": {"value": a.travel, "unit": a.travel_unit},
+        "travel": {"value": shown.travel, "unit": shown.travel_unit},
         "accuracy": accuracy_json(a.accuracy),
-        "notes": list(a.notes),
+        "notes": list(analysis_notes(a)),
         "motion": _motion_json(a),
         "cams": [_geometry_json(g) for g in a.geometry],
         "pressure_angle_exceeds_limit": a.pressure_angle_exceeds_limit,
@@ -246,10 +248,10 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
                 "quantity": q.key,
                 "label": q.label,
                 "unit": q.unit,
-                "max": _extreme_json(a.extremes[q.key][0]),
-                "min": _extreme_json(a.extremes[q.key][1]),
+                "max": _extreme_json(shown.extremes[q.key][0]),
+                "min": _extreme_json(shown.extremes[q.key][1]),
             }
-            for q in a.quantities
+            for q in shown.quantities
             if q.key != "curvature_radius"  # see "cams": smallest convex and concave radii
         ],
     }
@@ -299,18 +301,19 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
         cols["face_contact_mm"] = k.face_contact_mm
     if k.follower_angle_rad is not None:
         cols["follower_angle_deg"] = np.degrees(k.follower_angle_rad)
-    units = {q.key: q.unit for q in a.quantities}
+    shown = display_analysis(a)
+    units = {q.key: q.unit for q in shown.quantities}
     rf_unit = units["radial_factor"]
-    cols["radial_factor" if rf_unit == "-" else f"radial_factor_{_file_unit(rf_unit)}"] = a.curves[
-        "radial_factor"
-    ]
-    err_unit = a.error_unit
+    cols["radial_factor" if rf_unit == "-" else f"radial_factor_{_file_unit(rf_unit)}"] = (
+        shown.curves["radial_factor"]
+    )
+    err_unit = shown.error_unit
     vunit = units["dV_worst"]
     aunit = units["dA_worst"]
     names = [*a.errors.sources, "worst", "rms"]
     for prefix, unit in (("dS", err_unit), ("dV", vunit), ("dA", aunit)):
         for n in names:
-            cols[f"{prefix}_{n}_{_file_unit(unit)}"] = a.curves[f"{prefix}_{n}"]
+            cols[f"{prefix}_{n}_{_file_unit(unit)}"] = shown.curves[f"{prefix}_{n}"]
     if len(a.design.cams()) > 1:  # both cams' profiles and angles
         from camtol.report.conjugate import conjugate_profile_columns
 
@@ -373,10 +376,11 @@ def _row_cells(
 
 def _rows(a: Analysis) -> Iterable[tuple[str, str, str, str, str, str]]:
     limit = a.design.pressure_angle_limit_deg
-    for q in a.quantities:
+    shown = display_analysis(a)
+    for q in shown.quantities:
         if q.key == "curvature_radius":  # meaningless across concave stretches: see summary
             continue
-        mx, mn = a.extremes[q.key]
+        mx, mn = shown.extremes[q.key]
         label = q.label
         if q.key == "pressure_angle" and limit is not None:
             if max(abs(mx.value), abs(mn.value)) > limit:
@@ -469,6 +473,7 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
 
     con = console or Console(width=None if sys.stdout.isatty() else 80)
     d = a.design
+    shown = display_analysis(a)
     con.print(f"[bold]{d.name}[/bold]  (camtol {__version__})", highlight=False)
     if d.description:
         con.print(d.description.strip(), markup=False, highlight=False)
@@ -513,9 +518,9 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
         table.add_row(*cells)
     con.print(table, highlight=False)
     con.print(
-        f"Output accuracy: max |ΔS worst| = {_fmt(a.extremes['dS_worst'][0].value)}"
-        f" {_pretty_unit(a.error_unit)} over a travel of {a.travel:g}"
-        f" {_pretty_unit(a.travel_unit)}: {a.accuracy.describe()}",
+        f"Output accuracy: max |ΔS worst| = {_fmt(shown.extremes['dS_worst'][0].value)}"
+        f" {_pretty_unit(shown.error_unit)} over a travel of {shown.travel:g}"
+        f" {_pretty_unit(shown.travel_unit)}: {a.accuracy.describe()}",
         highlight=False,
     )
     if a.pressure_angle_exceeds_limit:
@@ -525,7 +530,7 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
             style="bold red",
             markup=False,
         )
-    for note in a.notes:
+    for note in analysis_notes(a):
         con.print(f"Note: {note}.", style="yellow", markup=False)
     if verbose:
         con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim", markup=False)

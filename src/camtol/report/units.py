@@ -36,7 +36,7 @@ def pretty_unit(unit: str) -> str:
     Parameters
     ----------
     unit : str
-        ASCII unit as recorded in :class:`camtol.analysis.Quantity` (``um``, ``deg``,
+        ASCII display unit (:func:`camtol.report.display.display_unit`: ``um``, ``deg``,
         ``mm/s2``, ``-``).
 
     Returns
