@@ -202,7 +202,10 @@ def _print(shown: Any) -> None:
     )
     y = result.yield_estimate
     if y is not None:
-        echo(f"  yield ({shown.yield_spec}): {y.value:.4%}  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]")
+        echo(
+            f"  yield ({shown.yield_spec}): {y.value:.4%}"
+            f"  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
     echo(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
     for c in result.contributions:
         echo(f"    {c.source:<12}{c.variance_share:>8.1%}")
@@ -415,12 +418,13 @@ def allocate(
         )
         from camtol.report.display import DisplayUnits
 
-        unit, scale = DisplayUnits.of(d).lift, DisplayUnits.of(d).lift_scale
+        shown = DisplayUnits.of(d)
+        unit, scale = shown.lift, shown.lift_scale
         spec_shown = None if res.spec is None else res.spec * scale
         # worst case and RSS in the display unit; a yield or a band ratio as it is
-        achieved = res.achieved if res.criterion == "monte_carlo" or res.spec is None else (
-            res.achieved * scale
-        )
+        achieved = res.achieved
+        if res.criterion != "monte_carlo" and res.spec is not None:
+            achieved = res.achieved * scale
         if as_json:
             from camtol.report.tables import accuracy_json
 

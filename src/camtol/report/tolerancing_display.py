@@ -46,7 +46,7 @@ _ORDER = {"lift": 0, "velocity": 1, "acceleration": 2}
 
 
 def describe_source(model: ResolvedDistribution | ProfileProcess) -> str:
-    """One line describing a source's distribution, in display units.
+    """Describe a source's distribution in one line, in display units.
 
     Parameters
     ----------
@@ -82,7 +82,7 @@ def describe_source(model: ResolvedDistribution | ProfileProcess) -> str:
 
 
 def yield_spec_text(estimate: YieldEstimate, unit: str, scale: float) -> str:
-    """What a yield was judged against, in words and display units.
+    """Return what a yield was judged against, in words and display units.
 
     Parameters
     ----------

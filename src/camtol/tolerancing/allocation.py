@@ -350,9 +350,7 @@ def _allocate(
         return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
 
     def no_grade(achieved: str) -> NoReturn:
-        _no_grade(
-            base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, base.unit, achieved
-        )
+        _no_grade(base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, base.unit, achieved)
 
     finest = dev[:, 0][None, :]
     evaluated = 0
@@ -529,7 +527,7 @@ def _require_scalable(model: StatisticalModel, keys: list[str], criterion: str) 
 
 
 def _message_unit(internal_unit: str) -> tuple[str, float]:
-    """Unit and factor in which an error message states ΔS: the user's spec unit.
+    """Return the unit and factor in which an error message states ΔS (the spec's unit).
 
     The spec is given in µm (``--spec-um``, a lift) or degrees (``--spec-deg``, a
     swing), so a message about it speaks those units; results stay in mm or rad.

@@ -33,7 +33,6 @@ from camtol.tolerancing import linear as lin
 from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
 from camtol.tolerancing.distributions import ResolvedDistribution
 from camtol.tolerancing.model import StatisticalModel, statistical_model
-from camtol.tolerancing.processes import ProfileProcess
 from camtol.tolerancing.plan import (
     CHUNK,
     Quantity,
@@ -42,6 +41,7 @@ from camtol.tolerancing.plan import (
     make_plan,
     sensitivity_matrices,
 )
+from camtol.tolerancing.processes import ProfileProcess
 from camtol.tolerancing.results import (
     AngleStatistics,
     ComparisonRow,
