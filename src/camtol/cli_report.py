@@ -353,7 +353,7 @@ def report(
             from camtol.tolerancing import monte_carlo
 
             study = monte_carlo(d, mc_samples, spec=mc_spec, band=mc_curves, step_deg=step_deg)
-            sections.append(montecarlo_section(study))
+            sections.append(montecarlo_section(study, d))
         fixture = None
         if d.mechanism.kind == "conjugate" and (
             d.inspection is not None

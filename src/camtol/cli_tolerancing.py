@@ -121,9 +121,21 @@ def band_option(
     return read_band_csv(band, design.mechanism.output)
 
 
-def curves_csv(result: Any) -> str:
-    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md)."""
-    s = result.statistics["lift"]
+def curves_csv(shown: Any) -> str:
+    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md).
+
+    Parameters
+    ----------
+    shown : MonteCarloDisplay
+        The study in display units (:func:`camtol.report.tolerancing_display.display_montecarlo`).
+
+    Returns
+    -------
+    str
+        The CSV text, ΔS columns in µm or degrees.
+    """
+    result = shown.result
+    s = shown.statistics["lift"]
     u = s.unit
     cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
     cols += [f"share_{k}" for k in result.shares]
@@ -135,7 +147,7 @@ def curves_csv(result: Any) -> str:
     return buf.getvalue()
 
 
-def _plot(result: Any, path: str) -> None:
+def _plot(shown: Any, path: str) -> None:
     from pathlib import Path
 
     import matplotlib
@@ -146,13 +158,14 @@ def _plot(result: Any, path: str) -> None:
     from camtol.files import atomic_output
     from camtol.report.tolerancing import draw_limits
 
-    s = result.statistics["lift"]
+    result = shown.result
+    s = shown.statistics["lift"]
     fig, ax = plt.subplots(figsize=(8, 4.5))
     t = result.theta_deg
     ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
     ax.plot(t, s.mean, label="mean")
     ax.plot(t, s.q50, ":", label="median")
-    draw_limits(ax, result)
+    draw_limits(ax, shown)
     ax.set_xlabel("cam angle θ [deg]")
     ax.set_ylabel(f"ΔS [{s.unit}]")
     ax.set_xlim(0, 360)
@@ -164,19 +177,20 @@ def _plot(result: Any, path: str) -> None:
     plt.close(fig)
 
 
-def _print(result: Any) -> None:
+def _print(shown: Any) -> None:
     echo = click.echo
-    s = result.statistics["lift"]
+    result = shown.result
+    s = shown.statistics["lift"]
     u = s.unit
     echo(
         f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
         f" seed {result.seed}"
     )
-    for k, v in result.sources.items():
+    for k, v in shown.sources.items():
         echo(f"  source {k:<10} {v}")
     for q in ("velocity", "acceleration"):
-        if q in result.statistics:
-            v = result.statistics[q]
+        if q in shown.statistics:
+            v = shown.statistics[q]
             echo(
                 f"  max |d{q[0].upper()}| [{v.unit}]: mean {v.max_abs.mean:.4g},"
                 f" 99.865 % {v.max_abs.q99865:.4g}"
@@ -188,20 +202,23 @@ def _print(result: Any) -> None:
     )
     y = result.yield_estimate
     if y is not None:
-        echo(f"  yield ({y.spec}): {y.value:.4%}  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]")
+        echo(
+            f"  yield ({shown.yield_spec}): {y.value:.4%}"
+            f"  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
     echo(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
     for c in result.contributions:
         echo(f"    {c.source:<12}{c.variance_share:>8.1%}")
     echo(f"  {'source':<12}{'worst case':>12}{'RSS':>10}{'MC 99.73 %':>12}   [{u}]")
-    for r in result.comparison:
+    for r in shown.comparison:
         echo(f"  {r.source:<12}{r.worst_case:>12.4g}{r.rss:>10.4g}{r.mc_9973:>12.4g}")
-    if result.difference is not None:
-        d = result.difference
+    if shown.difference is not None:
+        d = shown.difference
         echo(
             f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
             f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}"
         )
-    for n in result.notes:
+    for n in shown.notes:
         echo(f"  note: {n}")
 
 
@@ -273,16 +290,19 @@ def montecarlo(
                 scheduler=scheduler,
                 progress=progress,
             )
+        from camtol.report.tolerancing_display import display_montecarlo
+
+        shown = display_montecarlo(res, d)
         if curves:
             from camtol.files import atomic_write
 
-            atomic_write(curves, curves_csv(res))
+            atomic_write(curves, curves_csv(shown))
         if plot:
-            _plot(res, plot)
+            _plot(shown, plot)
         if as_json:
-            echo_json(res.to_dict(), command="montecarlo")
+            echo_json(shown.to_dict(), command="montecarlo")
         else:
-            _print(res)
+            _print(shown)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
@@ -396,6 +416,15 @@ def allocate(
             verify_samples=verify_samples,
             seed=seed,
         )
+        from camtol.report.display import DisplayUnits
+
+        shown = DisplayUnits.of(d)
+        unit, scale = shown.lift, shown.lift_scale
+        spec_shown = None if res.spec is None else res.spec * scale
+        # worst case and RSS in the display unit; a yield or a band ratio as it is
+        achieved = res.achieved
+        if res.criterion != "monte_carlo" and res.spec is not None:
+            achieved = res.achieved * scale
         if as_json:
             from camtol.report.tables import accuracy_json
 
@@ -412,10 +441,10 @@ def allocate(
                     for t in res.deviations
                 ],
                 "criterion": res.criterion,
-                "spec": res.spec,
+                "spec": spec_shown,
                 "band": res.band,
-                "unit": res.unit,
-                "achieved": res.achieved,
+                "unit": unit,
+                "achieved": achieved,
                 "cost": res.cost,
                 "accuracy": accuracy_json(res.accuracy),
                 "yield": {"value": res.verified.value, "ci95": list(res.verified.ci95)},
@@ -428,19 +457,19 @@ def allocate(
         what_spec = (
             f"band {res.band} (lower <= dS <= upper)"
             if res.spec is None
-            else f"spec max |dS| <= {res.spec:g} {res.unit}"
+            else f"spec max |dS| <= {spec_shown:g} {unit}"
         )
         echo(f"camtol allocate: {d.name}, {what_spec}, criterion {res.criterion}")
         for k, g in res.grades.items():
             echo(f"  {k:<6}{g:<6}{res.tolerances[k]}")
         what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
         if res.criterion == "monte_carlo":
-            val = f"{res.achieved:.4%}"
+            val = f"{achieved:.4%}"
         elif res.spec is None:
             what += " / band half-width"
-            val = f"{res.achieved:.4g}"
+            val = f"{achieved:.4g}"
         else:
-            val = f"{res.achieved:.4g} {res.unit}"
+            val = f"{achieved:.4g} {unit}"
         echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
         echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
         y = res.verified

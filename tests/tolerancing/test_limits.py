@@ -9,6 +9,7 @@ import pytest
 
 from camtol.cli import main
 from camtol.config import load_example
+from camtol.report.tolerancing_display import display_montecarlo
 from camtol.tolerancing import monte_carlo
 from camtol.tolerancing.montecarlo import prepare
 
@@ -22,8 +23,12 @@ def test_spec_limits_are_plus_minus_spec_in_the_display_unit(mode: str, samples:
     assert r.limits is not None
     lower, upper = r.limits
     assert lower.shape == upper.shape == r.theta_deg.shape
-    np.testing.assert_array_equal(upper, 12.0)  # µm: 0.012 mm shown in the result's unit
-    np.testing.assert_array_equal(lower, -12.0)
+    np.testing.assert_array_equal(upper, 0.012)  # internal unit: mm
+    np.testing.assert_array_equal(lower, -0.012)
+    shown = display_montecarlo(r, CW06).limits
+    assert shown is not None
+    np.testing.assert_array_equal(shown[1], 12.0)  # µm: 0.012 mm shown in the display unit
+    np.testing.assert_array_equal(shown[0], -12.0)
 
 
 def test_band_limits_follow_the_band_and_none_without_a_spec() -> None:
@@ -31,9 +36,11 @@ def test_band_limits_follow_the_band_and_none_without_a_spec() -> None:
     theta = np.linspace(0.0, 2.0 * np.pi, n)
     band = (-0.01 - 0.002 * np.cos(theta), 0.015 + 0.003 * np.sin(theta))
     r = monte_carlo(CW06, 2000, band=band, step_deg=STEP)
-    assert r.limits is not None
-    np.testing.assert_allclose(r.limits[0], band[0] * 1e3, rtol=1e-15)
-    np.testing.assert_allclose(r.limits[1], band[1] * 1e3, rtol=1e-15)
+    shown = display_montecarlo(r, CW06).limits
+    assert r.limits is not None and shown is not None
+    np.testing.assert_array_equal(r.limits[0], band[0])  # internal unit: mm
+    np.testing.assert_allclose(shown[0], band[0] * 1e3, rtol=1e-15)  # µm
+    np.testing.assert_allclose(shown[1], band[1] * 1e3, rtol=1e-15)
     assert monte_carlo(CW06, 100, step_deg=STEP).limits is None
 
 
@@ -49,11 +56,11 @@ def test_plot_and_report_draw_the_limits(tmp_path: Path) -> None:
     r = monte_carlo(CW06, 2000, spec=0.012, step_deg=STEP)
     fig = Figure()
     ax = fig.add_subplot()
-    draw_limits(ax, r)
+    draw_limits(ax, display_montecarlo(r, CW06))
     labels = [line.get_label() for line in ax.get_lines()]
     assert "spec limits" in labels
     assert any(np.allclose(line.get_ydata(), 12.0) for line in ax.get_lines())
-    assert "spec limits" in montecarlo_section(r)  # the SVG keeps legend text
+    assert "spec limits" in montecarlo_section(r, CW06)  # the SVG keeps legend text
     png = tmp_path / "mc.png"
     argv = ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--step", "1"]
     assert main([*argv, "--spec-um", "12", "--plot", str(png)]) == 0

@@ -11,6 +11,7 @@ import pytest
 from camtol.config import load_example
 from camtol.design import ToleranceSpec
 from camtol.exceptions import DesignError
+from camtol.report.tolerancing_display import display_montecarlo
 from camtol.tolerancing import (
     ProfileProcess,
     SourceDistribution,
@@ -26,7 +27,7 @@ CW06 = load_example("cw06-translating")
 def _closed_form_std(design, model, step_deg):
     st = prepare(design, model=model, step_deg=step_deg)
     g = st.sens["lift"]
-    return np.sqrt((g * g) @ st.plan.column_variance()) * st.scale, st
+    return np.sqrt((g * g) @ st.plan.column_variance()), st  # [mm]
 
 
 def test_linear_variance_matches_closed_form():
@@ -49,11 +50,12 @@ def test_cw06_rss_is_the_9973_band_of_untruncated_normals():
     res = monte_carlo(CW06, 60000, seed=11, model=model, step_deg=1.0)
     st = prepare(CW06, model=model, step_deg=1.0)
     rss = np.sqrt(((st.sens["lift"] * np.array(st.plan.deviations)) ** 2).sum(axis=1)) * 1e3
-    s = res.statistics["lift"]
+    shown = display_montecarlo(res, CW06)  # µm, as published
+    s = shown.statistics["lift"]
     half = 0.5 * (s.q99865 - s.q00135)
     np.testing.assert_allclose(half, rss, rtol=0.04)
     assert max(half) == pytest.approx(19.87, rel=0.04)
-    combined = res.comparison[-1]
+    combined = shown.comparison[-1]
     assert combined.rss == pytest.approx(19.87, abs=0.01)  # published, 4 digits
     assert combined.worst_case == pytest.approx(25.57, abs=0.01)
 
@@ -111,8 +113,9 @@ def test_process_variance_and_contact_angle():
     a, b = st.plan.groups[0]
     # s_r(θ) from the cos/sin columns: g_cos² + g_sin² = s_r².
     s_r2 = (st.sens["lift"][:, a:b] ** 2).sum(axis=1)
-    want = np.sqrt(s_r2 * (4e-3) ** 2 / 2) * 1e3
-    np.testing.assert_allclose(res.statistics["lift"].std, want, rtol=0.04)
+    want = np.sqrt(s_r2 * (4e-3) ** 2 / 2) * 1e3  # [µm]
+    shown = display_montecarlo(res, d).statistics["lift"]
+    np.testing.assert_allclose(shown.std, want, rtol=0.04)
 
 
 def test_stationary_process_point_variance():
@@ -125,7 +128,7 @@ def test_same_seed_same_numbers_whatever_the_chunking():
     ref = monte_carlo(CW06, n, seed=7, spec=0.02, step_deg=1.0, chunks_per_task=100)
     for kw in ({"chunks_per_task": 1}, {"chunks_per_task": 2, "workers": 2}):
         other = monte_carlo(CW06, n, seed=7, spec=0.02, step_deg=1.0, **kw)
-        assert other.to_dict() == ref.to_dict()
+        assert display_montecarlo(other, CW06).to_dict() == display_montecarlo(ref, CW06).to_dict()
         for f in ("mean", "std", "q00135", "q50", "q99865"):
             np.testing.assert_array_equal(
                 getattr(other.statistics["lift"], f), getattr(ref.statistics["lift"], f)
@@ -143,7 +146,7 @@ def test_same_seed_same_numbers_on_a_dask_local_cluster():
         distributed.Client(cluster) as client,
     ):
         res = monte_carlo(CW06, n, seed=8, spec=0.02, step_deg=1.0, scheduler=client)
-    assert res.to_dict() == ref.to_dict()
+    assert display_montecarlo(res, CW06).to_dict() == display_montecarlo(ref, CW06).to_dict()
     np.testing.assert_array_equal(res.statistics["lift"].q99865, ref.statistics["lift"].q99865)
 
 
@@ -196,10 +199,11 @@ def test_velocity_and_acceleration_statistics():
             * 1e3
             * (CW06.omega_rad_s or 1.0) ** (1 if q == "velocity" else 2)
         )
-        got = res.statistics[q].std
+        got = display_montecarlo(res, CW06).statistics[q].std  # µm per rad (or per s)
         mask = want > 1e-6 * want.max()
         np.testing.assert_allclose(got[mask], want[mask], rtol=0.04)
-    assert "max_abs_dV" in res.to_dict() and "max_abs_dA" in res.to_dict()
+    doc = display_montecarlo(res, CW06).to_dict()
+    assert "max_abs_dV" in doc and "max_abs_dA" in doc
 
 
 def test_linear_only_options_refused_in_exact_mode():

@@ -9,13 +9,16 @@ from camtol.report.html import _e, _table, figure_svg
 __all__ = ["draw_limits", "montecarlo_section"]
 
 
-def montecarlo_section(result: Any) -> str:
+def montecarlo_section(result: Any, design: Any) -> str:
     """HTML of a :class:`camtol.tolerancing.MonteCarloResult`: summary, tables and figure.
 
     Parameters
     ----------
     result : MonteCarloResult
-        A finished study (display units).
+        A finished study (internal units).
+    design : CamDesign
+        The studied design: it fixes the display units
+        (:func:`camtol.report.tolerancing_display.display_montecarlo`).
 
     Returns
     -------
@@ -27,12 +30,15 @@ def montecarlo_section(result: Any) -> str:
     import matplotlib.pyplot as plt
     from matplotlib.figure import Figure
 
-    s = result.statistics["lift"]
+    from camtol.report.tolerancing_display import display_montecarlo
+
+    shown = display_montecarlo(result, design)
+    s = shown.statistics["lift"]
     u = "µm" if s.unit == "um" else "°"
     parts = [
         f"<h2>Monte Carlo ({_e(result.mode)} mode, {result.samples} samples,"
         f" seed {result.seed})</h2>",
-        _table(["source", "distribution"], [[k, v] for k, v in result.sources.items()]),
+        _table(["source", "distribution"], [[k, v] for k, v in shown.sources.items()]),
     ]
     m = s.max_abs
     parts.append(
@@ -42,7 +48,7 @@ def montecarlo_section(result: Any) -> str:
     if result.yield_estimate is not None:
         y = result.yield_estimate
         parts.append(
-            f"<p>Yield ({_e(y.spec)}): {y.value:.4%}, 95 % interval"
+            f"<p>Yield ({_e(shown.yield_spec)}): {y.value:.4%}, 95 % interval"
             f" [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}] (Clopper-Pearson).</p>"
         )
     parts.append(f"<h3>Contributions at θ = {result.worst_angle_deg:.2f}°</h3>")
@@ -59,7 +65,7 @@ def montecarlo_section(result: Any) -> str:
             ["source", "worst case", "RSS", "Monte Carlo 99.73 %"],
             [
                 [r.source, f"{r.worst_case:.4g}", f"{r.rss:.4g}", f"{r.mc_9973:.4g}"]
-                for r in result.comparison
+                for r in shown.comparison
             ],
             {1, 2, 3},
         )
@@ -69,7 +75,7 @@ def montecarlo_section(result: Any) -> str:
     t = result.theta_deg
     ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
     ax.plot(t, s.mean, label="mean")
-    draw_limits(ax, result)
+    draw_limits(ax, shown)
     ax.set_xlim(0, 360)
     ax.set_xlabel("cam angle θ [deg]")
     ax.set_ylabel(f"ΔS [{s.unit}]")
@@ -83,19 +89,21 @@ def montecarlo_section(result: Any) -> str:
     return "\n".join(parts)
 
 
-def draw_limits(ax: Any, result: Any) -> None:
+def draw_limits(ax: Any, shown: Any) -> None:
     """Draw the spec or band the yield was judged against, and the worst-margin angle.
 
     Parameters
     ----------
     ax : matplotlib.axes.Axes
         Axes of ΔS(θ) in the display unit.
-    result : MonteCarloResult
-        Its ``limits`` (None: nothing drawn) and ``worst_angle_deg``.
+    shown : MonteCarloDisplay
+        The study in display units: its ``limits`` (None: nothing drawn) and its
+        result's ``worst_angle_deg``.
     """
-    if result.limits is None:
+    if shown.limits is None:
         return
-    lower, upper = result.limits
+    lower, upper = shown.limits
+    result = shown.result
     t = result.theta_deg
     ax.plot(t, upper, "--", color="tab:red", linewidth=1.0, label="spec limits")
     ax.plot(t, lower, "--", color="tab:red", linewidth=1.0)

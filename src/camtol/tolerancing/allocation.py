@@ -46,14 +46,18 @@ DEFAULT_GRADES = tuple(f"IT{k}" for k in range(5, 13))
 
 @dataclass(frozen=True)
 class Allocation:
-    """Result of :func:`allocate` (display units: µm, or deg for an oscillating output).
+    """Result of :func:`allocate` (internal units: mm, or rad for an oscillating output).
+
+    The CLI shows ``spec`` and ``achieved`` in µm or degrees (``camtol allocate``,
+    :class:`camtol.report.display.DisplayUnits`).
 
     Attributes
     ----------
     grades : dict of str to str
         Chosen grade per source.
     tolerances : dict of str to str
-        The resulting deviation per source, in words (e.g. ``19 µm``).
+        The resulting deviation per source, in words as the design states a tolerance
+        (:attr:`camtol.design.ResolvedTolerance.display`, e.g. ``19 µm``).
     deviations : tuple of ResolvedTolerance
         The same deviations in internal units, with how each was obtained. [mm, rad]
     criterion : str
@@ -61,7 +65,7 @@ class Allocation:
     spec : float or None
         Spec on max |ΔS| (None when a band was given). [unit]
     unit : str
-        ``um`` or ``deg``.
+        Internal unit of ΔS: ``mm`` (translating follower) or ``rad`` (oscillating).
     achieved : float
         The criterion's figure at the chosen grades: max worst case or RSS [unit], or the
         Monte Carlo yield (0-1) [-]. With a band, worst case and RSS give the largest
@@ -331,7 +335,6 @@ def _allocate(
     cost = ((ref[None, :] / t_comb) ** cost_exponent * np.array([coef[k] for k in keys])).sum(
         axis=1
     )
-    scale = base.scale
 
     # max_θ of w(θ)(Σ|g_k| t_k + a fixed process part) is a maximum of linear functions of
     # (t, 1) with non-negative coefficients: only the non-dominated rows w·(|g|, fixed) can
@@ -347,9 +350,7 @@ def _allocate(
         return np.asarray((wc_rows @ np.hstack([t, ones]).T).max(axis=0))
 
     def no_grade(achieved: str) -> NoReturn:
-        _no_grade(
-            base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, scale, base.unit, achieved
-        )
+        _no_grade(base.theta_rad, keys, grades, g, dev[:, 0], w, spec, band, base.unit, achieved)
 
     finest = dev[:, 0][None, :]
     evaluated = 0
@@ -439,7 +440,8 @@ def _allocate(
         if not ok.any():
             what = "worst case" if criterion == "worst_case" else "RSS"
             if curves is None:
-                no_grade(f"the {what} is {figure(finest)[0] * scale:.4g} {base.unit}")
+                unit, scale = _message_unit(base.unit)
+                no_grade(f"the {what} is {figure(finest)[0] * scale:.4g} {unit}")
             t0 = dev[:, 0]
             if criterion == "rss":
                 per = np.sqrt((g * g) @ (t0 * t0) + fixed_rss) * w
@@ -452,7 +454,7 @@ def _allocate(
             )
         cand = np.flatnonzero(ok)
         choice = int(cand[np.argmin(cost[cand])])
-        achieved = float(wc[choice] * (scale if curves is None else 1.0))
+        achieved = float(wc[choice])
         fails = {}
         for j, k in enumerate(keys):
             idx = combos[choice].copy()
@@ -464,11 +466,14 @@ def _allocate(
     chosen = tuple(grades[i] for i in combos[choice])
     final = _with_grades(design, keys, chosen)
     tols = final.resolve_tolerances(rmax)
-    worst = float((np.abs(g) @ t_comb[choice] + fixed_wc).max() * scale)
+    worst = float((np.abs(g) @ t_comb[choice] + fixed_wc).max())  # [mm or rad]
+    # iso286 takes the deviation in µm (lengths) or degrees (angles, its table's unit).
     if design.mechanism.output == "translating":
-        accuracy = iso286.grade_of_deviation(worst, design.program.total_travel)
+        accuracy = iso286.grade_of_deviation(worst * 1e3, design.program.total_travel)
     else:
-        accuracy = iso286.grade_of_angle_deviation(worst, math.degrees(design.program.total_travel))
+        accuracy = iso286.grade_of_angle_deviation(
+            worst * (180.0 / math.pi), math.degrees(design.program.total_travel)
+        )
     check = monte_carlo(
         final,
         verify_samples,
@@ -484,7 +489,7 @@ def _allocate(
         tolerances={t.key: t.display for t in tols},
         deviations=tuple(tols),
         criterion=criterion,
-        spec=None if spec is None else spec * scale,
+        spec=spec,
         unit=base.unit,
         achieved=achieved,
         cost=float(cost[choice]),
@@ -521,6 +526,15 @@ def _require_scalable(model: StatisticalModel, keys: list[str], criterion: str) 
             )
 
 
+def _message_unit(internal_unit: str) -> tuple[str, float]:
+    """Return the unit and factor in which an error message states ΔS (the spec's unit).
+
+    The spec is given in µm (``--spec-um``, a lift) or degrees (``--spec-deg``, a
+    swing), so a message about it speaks those units; results stay in mm or rad.
+    """
+    return ("um", 1e3) if internal_unit == "mm" else ("deg", 180.0 / math.pi)
+
+
 def _no_grade(
     theta_rad: FloatArray,
     keys: list[str],
@@ -530,11 +544,11 @@ def _no_grade(
     w: FloatArray,
     spec: float | None,
     band: ToleranceBand | tuple[FloatArray, FloatArray] | None,
-    scale: float,
-    unit: str,
+    internal_unit: str,
     achieved: str,
 ) -> NoReturn:
     """Raise the "no grade can meet it" error (dominant source at the worst angle)."""
+    unit, scale = _message_unit(internal_unit)
     part = np.abs(g) * finest[None, :] * w[:, None]
     i = int(np.argmax(part.sum(axis=1)))
     j = int(np.argmax(part[i]))

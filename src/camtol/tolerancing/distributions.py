@@ -92,13 +92,15 @@ class SourceDistribution:
                 " shift the zone (zone_lower, zone_upper) instead"
             )
 
-    def resolve(self, deviation: float) -> ResolvedDistribution:
+    def resolve(self, deviation: float, unit: str = "mm") -> ResolvedDistribution:
         """Fix the zone with the source's resolved tolerance Δ.
 
         Parameters
         ----------
         deviation : float
             Resolved tolerance Δ (THEORY §3.6). [mm, or rad]
+        unit : str
+            Internal unit of the source, ``mm`` or ``rad`` (recorded on the result).
 
         Returns
         -------
@@ -121,7 +123,7 @@ class SourceDistribution:
             raise DesignError(
                 f"{self.label}.bias={self.bias:g} puts the centre outside the zone [{lo:g}, {hi:g}]"
             )
-        return ResolvedDistribution(self.kind, lo, hi, centre, self.cp, self.truncate)
+        return ResolvedDistribution(self.kind, lo, hi, centre, self.cp, self.truncate, unit)
 
 
 @dataclass(frozen=True)
@@ -140,6 +142,9 @@ class ResolvedDistribution:
         Capability of a normal. [-]
     truncate : bool
         Normal truncated at the zone.
+    unit : str
+        Internal unit of the zone and centre: ``mm`` or ``rad`` (the report shows them in
+        µm or degrees, :func:`camtol.report.tolerancing_display.describe_source`).
     """
 
     kind: str
@@ -148,6 +153,7 @@ class ResolvedDistribution:
     centre: float
     cp: float
     truncate: bool
+    unit: str = "mm"
 
     @property
     def sigma(self) -> float:
@@ -229,21 +235,3 @@ class ResolvedDistribution:
         m = c + s * r
         v = s * s * (1.0 + (a * pa - b * pb) / z - r * r)
         return m, v
-
-    def describe(self, scale: float, unit: str) -> str:
-        """One-line description in display units, e.g. ``normal Cp=1 in [−19, 19] µm``.
-
-        Parameters
-        ----------
-        scale : float
-            Factor from internal to display units (1e3 for µm, 180/π for degrees). [-]
-        unit : str
-            Display unit symbol.
-        """
-        zone = f"[{self.lower * scale:.4g}, {self.upper * scale:.4g}] {unit}"
-        if self.kind == "normal":
-            cut = "truncated" if self.truncate else "untruncated"
-            return f"normal Cp={self.cp:g} mean {self.centre * scale:.4g} {unit}, {cut} at {zone}"
-        if self.kind == "triangular":
-            return f"triangular mode {self.centre * scale:.4g} {unit} on {zone}"
-        return f"uniform on {zone}"

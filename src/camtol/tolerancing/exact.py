@@ -157,7 +157,7 @@ def run_exact(
     progress: Callable[[int, int], None] | None,
     *,
     band: tuple[FloatArray, FloatArray] | None = None,
-    band_text: str = "lower <= dS <= upper at every angle",
+    band_text: str = "",
 ) -> MonteCarloResult:
     """Run an exact-mode study (see the module docstring).
 
@@ -177,12 +177,18 @@ def run_exact(
         Lower and upper curves of ΔS on the study's grid: the yield counts the samples
         whose exact ΔS(θ) lies inside at every angle (instead of ``spec``). [mm or rad]
     band_text : str
-        The band in words, for the yield.
+        The band's label (its file's name), for the yield.
+
+    Returns
+    -------
+    MonteCarloResult
+        The exact statistics (internal units: mm or rad) and their difference from the
+        linear ones on the same samples.
     """
     from camtol.tolerancing.montecarlo import (
         comparison_rows,
-        describe_sources,
         sample_matrix,
+        source_models,
         variance_shares,
         worst_angle,
     )
@@ -199,7 +205,6 @@ def run_exact(
         if progress is not None:
             progress(i + 1, samples)
     linear = x @ study.sens["lift"].T
-    s = study.scale
     em, es, eq = _stats(exact)
     lm, ls, lq = _stats(linear)
     e_max = np.max(np.abs(exact), axis=1)
@@ -208,31 +213,29 @@ def run_exact(
         "lift": AngleStatistics(
             "lift",
             study.unit,
-            em * s,
-            es * s,
-            eq[0] * s,
-            eq[1] * s,
-            eq[2] * s,
+            em,
+            es,
+            eq[0],
+            eq[1],
+            eq[2],
             0.0,
-            Summary(*(v * s for v in vars(_summary(e_max)).values())),
+            _summary(e_max),
         )
     }
     diff = LinearExactDifference(
-        mean=float(np.max(np.abs(em - lm)) * s),
-        std=float(np.max(np.abs(es - ls)) * s),
-        q00135=float(np.max(np.abs(eq[0] - lq[0])) * s),
-        q99865=float(np.max(np.abs(eq[2] - lq[2])) * s),
-        max_abs_q99865=float(abs(np.quantile(e_max, PROBS[2]) - np.quantile(l_max, PROBS[2])) * s),
-        max_sample=float(np.max(np.abs(exact - linear)) * s),
+        mean=float(np.max(np.abs(em - lm))),
+        std=float(np.max(np.abs(es - ls))),
+        q00135=float(np.max(np.abs(eq[0] - lq[0]))),
+        q99865=float(np.max(np.abs(eq[2] - lq[2]))),
+        max_abs_q99865=float(abs(np.quantile(e_max, PROBS[2]) - np.quantile(l_max, PROBS[2]))),
+        max_sample=float(np.max(np.abs(exact - linear))),
     )
     y = None
     if spec is not None:
-        y = YieldEstimate.of(
-            int(np.count_nonzero(e_max <= spec)), samples, f"max |dS| <= {spec * s:g} {study.unit}"
-        )
+        y = YieldEstimate.of(int(np.count_nonzero(e_max <= spec)), samples, spec=spec)
     elif band is not None:
         inside = np.all((exact >= band[0][None, :]) & (exact <= band[1][None, :]), axis=1)
-        y = YieldEstimate.of(int(np.count_nonzero(inside)), samples, band_text)
+        y = YieldEstimate.of(int(np.count_nonzero(inside)), samples, band=band_text)
     if samples > study.plan.columns + 1:
         sh = regression_shares(x, exact, study.plan.groups)
         shares = {lab: sh[j] for j, lab in enumerate(study.plan.labels)}
@@ -251,8 +254,8 @@ def run_exact(
     g = study.sens["lift"]
     for a, b in study.plan.groups:
         lab_max = np.max(np.abs(x[:, a:b] @ g[:, a:b].T), axis=1)
-        label_q.append(float(np.quantile(lab_max, 0.9973)) * s)
-    combined = float(np.max(np.maximum(np.abs(eq[0]), np.abs(eq[2]))) * s)
+        label_q.append(float(np.quantile(lab_max, 0.9973)))
+    combined = float(np.max(np.maximum(np.abs(eq[0]), np.abs(eq[2]))))
     return MonteCarloResult(
         design_name=design.name,
         samples=samples,
@@ -265,9 +268,9 @@ def run_exact(
         worst_angle_deg=float(math.degrees(theta[i])),
         contributions=contributions,
         comparison=comparison_rows(study, label_q, combined),
-        sources=describe_sources(study),
+        sources=source_models(study),
         difference=diff,
-        limits=spec_limits(theta.size, spec, band, s),
+        limits=spec_limits(theta.size, spec, band),
         notes=(
             "exact mode: every sample through the contact engine (THEORY §5); quantiles are"
             " exact order statistics; per-source Monte Carlo columns use the linear model",

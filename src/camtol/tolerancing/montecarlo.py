@@ -31,16 +31,17 @@ from camtol.jet import FloatArray
 from camtol.kinematics import analysis_grid
 from camtol.tolerancing import linear as lin
 from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
+from camtol.tolerancing.distributions import ResolvedDistribution
 from camtol.tolerancing.model import StatisticalModel, statistical_model
 from camtol.tolerancing.plan import (
     CHUNK,
     Quantity,
     SamplingPlan,
     chunk_uniforms,
-    display_scale,
     make_plan,
     sensitivity_matrices,
 )
+from camtol.tolerancing.processes import ProfileProcess
 from camtol.tolerancing.results import (
     AngleStatistics,
     ComparisonRow,
@@ -64,7 +65,23 @@ Progress = Callable[[int, int], None]
 
 @dataclass(frozen=True)
 class Study:
-    """A design prepared for sampling (grid, tolerances, plan, sensitivities)."""
+    """A design prepared for sampling (grid, tolerances, plan, sensitivities).
+
+    Attributes
+    ----------
+    design : CamDesign
+        The design.
+    theta_rad : ndarray
+        Cam angles of the grid. [rad]
+    left_limit : ndarray of bool
+        Rows taking left limits at segment boundaries.
+    plan : SamplingPlan
+        Columns of the sample matrix.
+    sens : dict of str to ndarray
+        Sensitivities of ΔS, ΔV, ΔA to every column, shape (angles, columns).
+    unit : str
+        Internal unit of ΔS: ``mm`` (translating follower) or ``rad`` (oscillating).
+    """
 
     design: CamDesign
     theta_rad: FloatArray
@@ -72,7 +89,6 @@ class Study:
     plan: SamplingPlan
     sens: dict[str, FloatArray]
     unit: str
-    scale: float
 
 
 def prepare(
@@ -107,8 +123,8 @@ def prepare(
             f"design {design.name!r} has no [tolerances] and no profile process: nothing to sample"
         )
     sens = sensitivity_matrices(design, plan, theta, left)
-    unit, scale = display_scale(design)
-    return Study(design, theta, left, plan, sens, unit, scale)
+    unit = "mm" if design.mechanism.output == "translating" else "rad"
+    return Study(design, theta, left, plan, sens, unit)
 
 
 def _check_samples(samples: int, mode: Mode, angles: int) -> None:
@@ -288,7 +304,7 @@ def monte_carlo(
     band_text = ""
     if band is not None:
         curves = band_curves(band, study.theta_rad, require_nominal=False)
-        band_text = f"lower <= dS <= upper at every angle, band {band_label(band)}"
+        band_text = band_label(band)
     qs = ("lift", *(q for q in quantities if q != "lift"))
     if mode == "exact":
         from camtol.tolerancing.exact import run_exact
@@ -353,9 +369,8 @@ def worst_angle(
 def comparison_rows(
     study: Study, label_q9973: list[float], combined_mc: float
 ) -> tuple[ComparisonRow, ...]:
-    """Worst case, RSS and MC 99.73 % per source and combined (display units)."""
+    """Worst case, RSS and MC 99.73 % per source and combined. [mm or rad]"""
     g = study.sens["lift"]
-    s = study.scale
     per = np.zeros((g.shape[0], len(study.plan.labels)))
     for j, ((a, b), d) in enumerate(zip(study.plan.groups, study.plan.deviations, strict=True)):
         if b - a == 1:
@@ -370,14 +385,14 @@ def comparison_rows(
         st = error_analysis(study.design, unit_t, study.theta_rad, left_limit=study.left_limit)
         per[:, -1] = np.abs(st.sources[p.target].sensitivity) * study.plan.deviations[-1]
     rows = [
-        ComparisonRow(lab, float(per[:, j].max() * s), float(per[:, j].max() * s), label_q9973[j])
+        ComparisonRow(lab, float(per[:, j].max()), float(per[:, j].max()), label_q9973[j])
         for j, lab in enumerate(study.plan.labels)
     ]
     rows.append(
         ComparisonRow(
             "combined",
-            float(per.sum(axis=1).max() * s),
-            float(np.sqrt((per * per).sum(axis=1)).max() * s),
+            float(per.sum(axis=1).max()),
+            float(np.sqrt((per * per).sum(axis=1)).max()),
             combined_mc,
         )
     )
@@ -389,12 +404,12 @@ def _linear_result(
     spec: lin.LinearSpec,
     totals: lin.LinearTotals,
     band: tuple[FloatArray, FloatArray] | None,
-    band_text: str = "lower <= dS <= upper at every angle",
+    band_text: str = "",
 ) -> MonteCarloResult:
     n_tot, xmean, cov, max_stats = lin.fold_moments(totals, list(spec.sens))
     stats: dict[str, AngleStatistics] = {}
     for q, g in spec.sens.items():
-        unit, scale = display_scale(study.design, q)  # type: ignore[arg-type]
+        unit = study.unit + ("", "/rad", "/rad2")[("lift", "velocity", "acceleration").index(q)]
         n = g.shape[0]
         counts = totals.hist[q].reshape(n, lin.ANGLE_BINS)
         qs = lin.hist_quantiles(counts, spec.lower[q], spec.width[q], PROBS)
@@ -405,24 +420,22 @@ def _linear_result(
         stats[q] = AngleStatistics(
             q,
             unit,
-            mean * scale,
-            std * scale,
-            qs[0] * scale,
-            qs[1] * scale,
-            qs[2] * scale,
-            float(np.max(spec.width[q]) * scale),
-            Summary(*(v * scale for v in (ma.mean, ma.std, ma.q00135, ma.q50, ma.q99865))),
+            mean,
+            std,
+            qs[0],
+            qs[1],
+            qs[2],
+            float(np.max(spec.width[q])),
+            ma,
         )
     lift = stats["lift"]
     y = None
     if spec.spec is not None:
-        y = YieldEstimate.of(
-            totals.passed_spec, n_tot, f"max |dS| <= {spec.spec * study.scale:g} {study.unit}"
-        )
+        y = YieldEstimate.of(totals.passed_spec, n_tot, spec=spec.spec)
     elif band is not None:
-        y = YieldEstimate.of(totals.passed_band, n_tot, band_text)
+        y = YieldEstimate.of(totals.passed_band, n_tot, band=band_text)
     shares = variance_shares(study)
-    i = worst_angle(lift.q00135 / study.scale, lift.q99865 / study.scale, band)
+    i = worst_angle(lift.q00135, lift.q99865, band)
     contributions = tuple(
         sorted(
             (Contribution(lab, float(v[i])) for lab, v in shares.items()),
@@ -435,7 +448,7 @@ def _linear_result(
         qq = lin.hist_quantiles(
             totals.label_hist[j][None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), (0.9973,)
         )
-        label_q.append(float(qq[0][0]) * study.scale)
+        label_q.append(float(qq[0][0]))
     combined = float(np.max(np.maximum(np.abs(lift.q00135), np.abs(lift.q99865))))
     return MonteCarloResult(
         design_name=study.design.name,
@@ -449,29 +462,35 @@ def _linear_result(
         worst_angle_deg=float(np.degrees(study.theta_rad[i])),
         contributions=contributions,
         comparison=comparison_rows(study, label_q, combined),
-        sources=describe_sources(study),
-        limits=spec_limits(study.theta_rad.size, spec.spec, band, study.scale),
+        sources=source_models(study),
+        limits=spec_limits(study.theta_rad.size, spec.spec, band),
         notes=(
             "linear mode: closed-form sensitivities (THEORY §3); mean and σ exact for the"
-            " samples, quantiles from per-angle histograms (resolution"
-            f" {lift.resolution:.3g} {lift.unit})",
+            " samples, quantiles from per-angle histograms",
             "zone convention: each source varies in ±Δ of its resolved tolerance (full IT"
             " value), normal σ = Δ/(3 Cp) truncated at the zone",
         ),
     )
 
 
-def describe_sources(study: Study) -> dict[str, str]:
-    """Each label's distribution in words (display units of the source)."""
-    out = {}
+def source_models(study: Study) -> dict[str, ResolvedDistribution | ProfileProcess]:
+    """Each label's distribution (internal units, :attr:`ResolvedDistribution.unit`).
+
+    Parameters
+    ----------
+    study : Study
+        The prepared design.
+
+    Returns
+    -------
+    dict of str to ResolvedDistribution or ProfileProcess
+        By label, in report order; the profile process last.
+    """
+    out: dict[str, ResolvedDistribution | ProfileProcess] = {}
     for j, d in enumerate(study.plan.distributions):
-        lab = study.plan.labels[j]
-        if study.plan.units[j] == "mm":
-            out[lab] = d.describe(1e3, "µm")
-        else:
-            out[lab] = d.describe(180.0 / math.pi, "°")
+        out[study.plan.labels[j]] = d
     if study.plan.process is not None:
-        out[study.plan.labels[-1]] = study.plan.process.describe()
+        out[study.plan.labels[-1]] = study.plan.process
     return out
 
 

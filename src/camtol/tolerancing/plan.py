@@ -14,7 +14,6 @@ grouped into tasks or spread over workers.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -157,7 +156,7 @@ def make_plan(
     for j, t in enumerate(tolerances):
         labels.append(t.key)
         groups.append((j, j + 1))
-        dists.append(model.distribution(t.key).resolve(t.deviation))
+        dists.append(model.distribution(t.key).resolve(t.deviation, t.unit))
         devs.append(abs(t.deviation))
         units.append(t.unit)
     p = model.process
@@ -231,18 +230,3 @@ def sensitivity_matrices(
             out["acceleration"].append(g2 * h0 + 2 * g1 * h1 + g0 * h2)
     n = theta_rad.size
     return {q: (np.hstack(v) if v else np.zeros((n, 0))) for q, v in out.items()}
-
-
-def display_scale(design: CamDesign, quantity: Quantity = "lift") -> tuple[str, float]:
-    """Return (unit, factor) turning internal output errors into display units."""
-    if design.mechanism.output == "translating":
-        unit, scale = "um", 1e3
-    else:
-        unit, scale = "deg", 180.0 / math.pi
-    if quantity == "lift":
-        return unit, scale
-    omega = design.omega_rad_s
-    power = 1 if quantity == "velocity" else 2
-    if omega is None:
-        return f"{unit}/rad{'' if power == 1 else '2'}", scale
-    return f"{unit}/s{'' if power == 1 else '2'}", scale * omega**power

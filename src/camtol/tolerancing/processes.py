@@ -161,17 +161,6 @@ class ProfileProcess:
         s = self.coefficient_std_mm()
         return np.asarray(ndtri(u) * np.concatenate([s, s]))
 
-    def describe(self) -> str:
-        """One line for reports."""
-        what = "radial" if self.target == "r" else "normal"
-        if self.harmonics:
-            h = ", ".join(f"order {k}: {a:g} µm" for k, a in self.harmonics)
-            return f"{what} profile error, harmonics with random phases ({h})"
-        return (
-            f"{what} profile error, stationary Gaussian σ = {self.sigma_um:g} µm,"
-            f" correlation length {self.correlation_deg:g}° ({self.orders.size} harmonics)"
-        )
-
 
 def contact_polar_angle(
     mechanism: Mechanism,

@@ -1,14 +1,21 @@
-"""Result types of the Monte Carlo study and their JSON form (docs/tolerancing.md)."""
+"""Result types of the Monte Carlo study, in internal units (docs/tolerancing.md).
+
+Every figure is in the internal units of THEORY §0: ΔS in mm (translating follower) or
+rad (oscillating), ΔV and ΔA per radian of cam angle (``mm/rad``, ``rad/rad2``); the unit
+of each statistic is recorded (:attr:`AngleStatistics.unit`). Display units (µm, degrees,
+per second at the design's cam speed), the words and the ``--json`` form are the report
+layer's business (:mod:`camtol.report.tolerancing_display`).
+"""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from camtol.jet import FloatArray
+from camtol.tolerancing.distributions import ResolvedDistribution
+from camtol.tolerancing.processes import ProfileProcess
 
 __all__ = [
     "AngleStatistics",
@@ -44,20 +51,24 @@ class Summary:
 
 @dataclass(frozen=True)
 class AngleStatistics:
-    """Per-angle statistics of ΔS (or ΔV, ΔA) in display units.
+    """Per-angle statistics of ΔS (or ΔV, ΔA), in the unit :attr:`unit`.
+
+    The Monte Carlo study gives them in internal units; the report layer makes a copy in
+    display units (:func:`camtol.report.tolerancing_display.display_montecarlo`).
 
     Attributes
     ----------
     quantity : str
         ``lift``, ``velocity`` or ``acceleration``.
     unit : str
-        Display unit (``um``, ``deg``, ``um/rad`` ...).
+        Unit of the figures: internally ``mm`` or ``rad`` for ΔS, ``mm/rad`` or
+        ``rad/rad`` for ΔV, ``mm/rad2`` or ``rad/rad2`` for ΔA (per radian of cam angle).
     mean, std, q00135, q50, q99865 : ndarray
         Per-angle mean, σ and quantiles. [unit]
     resolution : float
         Largest histogram bin width of the quantiles (0: exact order statistics). [unit]
     max_abs : Summary
-        Distribution of max_θ |ΔS| over the samples. [unit]
+        Distribution of max_θ |ΔS| (or |ΔV|, |ΔA|) over the samples. [unit]
     """
 
     quantity: str
@@ -73,16 +84,34 @@ class AngleStatistics:
 
 @dataclass(frozen=True)
 class YieldEstimate:
-    """Fraction of mechanisms meeting the spec, with a Clopper-Pearson 95 % interval."""
+    """Fraction of mechanisms meeting the spec, with a Clopper-Pearson 95 % interval.
+
+    Attributes
+    ----------
+    value : float
+        Fraction of the samples meeting the spec. [-]
+    ci95 : (float, float)
+        Clopper-Pearson 95 % interval of the yield. [-]
+    passed, samples : int
+        Samples meeting the spec; samples drawn.
+    spec : float or None
+        The spec on max |ΔS| it was judged against (None for a band). [mm or rad]
+    band : str or None
+        The band ``lower ≤ ΔS ≤ upper`` it was judged against instead: its label (the
+        file's name, or ``""`` for curves without a name); None for a spec.
+    """
 
     value: float
     ci95: tuple[float, float]
     passed: int
     samples: int
-    spec: str
+    spec: float | None = None
+    band: str | None = None
 
     @classmethod
-    def of(cls, passed: int, samples: int, spec: str) -> YieldEstimate:
+    def of(
+        cls, passed: int, samples: int, spec: float | None = None, band: str | None = None
+    ) -> YieldEstimate:
         """Estimate with the exact (Clopper-Pearson) binomial 95 % interval.
 
         Parameters
@@ -91,14 +120,21 @@ class YieldEstimate:
             Samples meeting the spec.
         samples : int
             Samples drawn.
-        spec : str
-            The spec, in words.
+        spec : float, optional
+            The spec on max |ΔS|. [mm or rad]
+        band : str, optional
+            The band's label, when judged against a band instead.
+
+        Returns
+        -------
+        YieldEstimate
+            The yield and its interval.
         """
         from scipy.special import betaincinv  # beta quantile, without scipy.stats
 
         lo = 0.0 if passed == 0 else float(betaincinv(passed, samples - passed + 1, 0.025))
         hi = 1.0 if passed == samples else float(betaincinv(passed + 1, samples - passed, 0.975))
-        return cls(passed / samples, (lo, hi), passed, samples, spec)
+        return cls(passed / samples, (lo, hi), passed, samples, spec, band)
 
 
 @dataclass(frozen=True)
@@ -111,7 +147,16 @@ class Contribution:
 
 @dataclass(frozen=True)
 class ComparisonRow:
-    """Worst case, RSS and Monte Carlo 99.73 % of max |ΔS| for a source or combined."""
+    """Worst case, RSS and Monte Carlo 99.73 % of max |ΔS| for a source or combined.
+
+    Attributes
+    ----------
+    source : str
+        Source label, or ``combined``.
+    worst_case, rss, mc_9973 : float
+        max_θ of the worst case and of the RSS, and the 99.73 % quantile of the Monte
+        Carlo max |ΔS|. [unit of ΔS: mm or rad]
+    """
 
     source: str
     worst_case: float
@@ -126,11 +171,11 @@ class LinearExactDifference:
     Attributes
     ----------
     mean, std, q00135, q99865 : float
-        max over θ of |exact − linear| of each per-angle statistic. [unit]
+        max over θ of |exact − linear| of each per-angle statistic. [mm or rad]
     max_abs_q99865 : float
-        Difference of the 99.865 % quantile of max |ΔS|. [unit]
+        Difference of the 99.865 % quantile of max |ΔS|. [mm or rad]
     max_sample : float
-        Largest |exact − linear| of any sample at any angle. [unit]
+        Largest |exact − linear| of any sample at any angle. [mm or rad]
     """
 
     mean: float
@@ -142,9 +187,9 @@ class LinearExactDifference:
 
 
 def spec_limits(
-    theta_size: int, spec: float | None, band: tuple[FloatArray, FloatArray] | None, scale: float
+    theta_size: int, spec: float | None, band: tuple[FloatArray, FloatArray] | None
 ) -> tuple[FloatArray, FloatArray] | None:
-    """Lower and upper limit curves of a spec (±spec) or a band, in the display unit.
+    """Lower and upper limit curves of a spec (±spec) or a band. [mm or rad]
 
     Parameters
     ----------
@@ -154,24 +199,26 @@ def spec_limits(
         Spec on max |ΔS|. [mm or rad]
     band : (ndarray, ndarray) or None
         Lower and upper curves on the grid. [mm or rad]
-    scale : float
-        Factor to the display unit. [unit per mm or rad]
 
     Returns
     -------
     (ndarray, ndarray) or None
-        [unit]
+        Lower and upper curves on the grid. [mm or rad]
     """
     if spec is not None:
-        return np.full(theta_size, -spec * scale), np.full(theta_size, spec * scale)
+        return np.full(theta_size, -spec), np.full(theta_size, spec)
     if band is not None:
-        return np.asarray(band[0] * scale), np.asarray(band[1] * scale)
+        return np.asarray(band[0], dtype=float), np.asarray(band[1], dtype=float)
     return None
 
 
 @dataclass(frozen=True)
 class MonteCarloResult:
-    """Result of :func:`camtol.tolerancing.monte_carlo` (display units).
+    """Result of :func:`camtol.tolerancing.monte_carlo` (internal units).
+
+    ΔS figures are in mm (translating follower) or rad (oscillating), ΔV and ΔA per
+    radian of cam angle; :func:`camtol.report.tolerancing_display.display_montecarlo`
+    shows them in µm or degrees (per second at the design's speed) and writes the JSON.
 
     Attributes
     ----------
@@ -195,15 +242,16 @@ class MonteCarloResult:
         Shares at that angle, largest first.
     comparison : tuple of ComparisonRow
         Per source, then ``combined``.
-    sources : dict of str to str
-        Each source's distribution, in words.
+    sources : dict of str to ResolvedDistribution or ProfileProcess
+        Each label's distribution (zone in the source's internal unit,
+        :attr:`ResolvedDistribution.unit`), or the profile process.
     difference : LinearExactDifference or None
         Exact mode: exact minus linear on the same samples.
     notes : tuple of str
         How the numbers were obtained.
     limits : (ndarray, ndarray) or None
         What the yield was judged against, as lower and upper curves on ``theta_deg``
-        (−spec and +spec, or the band); None without a spec. [unit]
+        (−spec and +spec, or the band); None without a spec. [mm or rad]
     """
 
     design_name: str
@@ -217,64 +265,12 @@ class MonteCarloResult:
     worst_angle_deg: float
     contributions: tuple[Contribution, ...]
     comparison: tuple[ComparisonRow, ...]
-    sources: dict[str, str] = field(default_factory=dict)
+    sources: dict[str, ResolvedDistribution | ProfileProcess] = field(default_factory=dict)
     difference: LinearExactDifference | None = None
     notes: tuple[str, ...] = ()
     limits: tuple[FloatArray, FloatArray] | None = None
 
     @property
     def unit(self) -> str:
-        """Display unit of ΔS (``um`` or ``deg``)."""
+        """Internal unit of ΔS: ``mm`` (translating follower) or ``rad`` (oscillating)."""
         return self.statistics["lift"].unit
-
-    def to_dict(self) -> dict[str, Any]:
-        """Return the ``camtol montecarlo --json`` object (strict JSON; keys in the docs)."""
-        lift = self.statistics["lift"]
-        out: dict[str, Any] = {
-            "design": self.design_name,
-            "samples": self.samples,
-            "seed": self.seed,
-            "mode": self.mode,
-            "unit": self.unit,
-            "max_abs_dS": lift.max_abs.to_dict(),
-        }
-        if self.yield_estimate is not None:
-            y = self.yield_estimate
-            out["yield"] = {"value": y.value, "ci95": list(y.ci95), "spec": y.spec}
-        out["contributions"] = [
-            {"source": c.source, "variance_share": c.variance_share} for c in self.contributions
-        ]
-        out["worst_angle_deg"] = self.worst_angle_deg
-        out["comparison"] = [
-            {"source": r.source, "worst_case": r.worst_case, "rss": r.rss, "mc_9973": r.mc_9973}
-            for r in self.comparison
-        ]
-        for q in ("velocity", "acceleration"):
-            if q in self.statistics:
-                s = self.statistics[q]
-                out[f"max_abs_d{q[0].upper()}"] = {**s.max_abs.to_dict(), "unit": s.unit}
-        out["quantile_resolution"] = lift.resolution
-        if self.difference is not None:
-            d = self.difference
-            out["linear_vs_exact"] = {
-                "mean": d.mean,
-                "std": d.std,
-                "q00135": d.q00135,
-                "q99865": d.q99865,
-                "max_abs_q99865": d.max_abs_q99865,
-                "max_sample": d.max_sample,
-            }
-        out["sources"] = dict(self.sources)
-        out["notes"] = list(self.notes)
-        clean: dict[str, Any] = _finite(out)
-        return clean
-
-
-def _finite(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {k: _finite(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_finite(v) for v in x]
-    if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(x) else None
-    return x
