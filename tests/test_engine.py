@@ -232,7 +232,7 @@ def test_dwells_evaluated_once_give_the_same_numbers(
 ) -> None:
     """Evaluating a dwell's motion-only quantities once changes no number (bit for bit)."""
     design = load_example(name).cams()[0].design
-    theta, left = analysis_grid(0.5, design.program.boundaries_rad)
+    theta, left = analysis_grid(0.1, design.program.boundaries_rad)  # chunks of ≥ 1024 rows
     k1, s1 = evaluate_engine(design, theta, left)
     monkeypatch.setattr(type(design.mechanism), "motion_only", False)
     k2, s2 = evaluate_engine(design, theta, left)

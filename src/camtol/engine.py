@@ -158,7 +158,7 @@ def _motion_quantities(
     """
     t, s, v, acc, jerk = state
     index = None
-    if repeats is not None and repeats.size:
+    if repeats is not None and repeats.size >= 1024:  # shorter: bookkeeping ≈ saving
         fresh = ~repeats
         fresh[0] = True
         if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
