@@ -169,12 +169,7 @@ class Analysis:
     @property
     def travel_unit(self) -> str:
         """Internal unit of :attr:`travel` and of ΔS: ``mm`` or ``rad`` (oscillating)."""
-        return _output_unit(self.design)
-
-
-def _output_unit(design: CamDesign) -> str:
-    """Return the internal unit of the follower's output (S, ΔS): ``mm`` or ``rad``."""
-    return "mm" if design.mechanism.output == "translating" else "rad"
+        return self.design.mechanism.output_unit
 
 
 def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> float:
@@ -214,7 +209,7 @@ def _refined_max_radius(
 def _quantities(
     design: CamDesign, tolerances: tuple[ResolvedTolerance, ...]
 ) -> tuple[Quantity, ...]:
-    out = _output_unit(design)
+    out = design.mechanism.output_unit
     mech = design.mechanism
     q = [
         Quantity("pressure_angle", "pressure angle φ", "rad"),
@@ -303,7 +298,7 @@ class Curves(Mapping[str, FloatArray]):
             return _FIXED_UNITS[key]
         if key == "radial_factor":
             return _radial_factor_unit(self._design)
-        out = _output_unit(self._design)
+        out = self._design.mechanism.output_unit
         return (out, f"{out}/rad", f"{out}/rad2")["SVA".index(key[1])]
 
     def scaled(self, key: str, factor: float) -> FloatArray:

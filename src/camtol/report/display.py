@@ -42,12 +42,11 @@ __all__ = [
     "display_curves",
     "display_extremes",
     "display_unit",
+    "output_error_unit",
 ]
 
 #: Degrees per radian. [deg/rad]
 _DEG = 180.0 / math.pi
-#: Display unit and factor of the follower's output error, by the follower's output.
-_OUTPUT = {"translating": ("um", 1e3), "oscillating": ("deg", _DEG)}
 
 
 @dataclass(frozen=True)
@@ -64,6 +63,22 @@ class DisplayUnit:
 
     unit: str
     factor: float
+
+
+def output_error_unit(internal_unit: str) -> DisplayUnit:
+    """How an error of the follower's output is shown: µm for mm, degrees for rad.
+
+    Parameters
+    ----------
+    internal_unit : {"mm", "rad"}
+        Internal unit of the output (:attr:`camtol.mechanisms.base.Mechanism.output_unit`).
+
+    Returns
+    -------
+    DisplayUnit
+        (``um``, 1e3) for a translating follower, (``deg``, 180/π) for an oscillating one.
+    """
+    return DisplayUnit("um", 1e3) if internal_unit == "mm" else DisplayUnit("deg", _DEG)
 
 
 @dataclass(frozen=True)
@@ -101,7 +116,8 @@ class DisplayUnits:
         DisplayUnits
             µm or ° for ΔS; per rad, or per s when the design gives a speed.
         """
-        unit, scale = _OUTPUT[design.mechanism.output]
+        shown = output_error_unit(design.mechanism.output_unit)
+        unit, scale = shown.unit, shown.factor
         omega = design.omega_rad_s
         if omega is None:
             return cls(unit, f"{unit}/rad", f"{unit}/rad2", scale, scale, scale)

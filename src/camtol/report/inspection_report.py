@@ -14,12 +14,12 @@ File columns and JSON keys are fixed (issue 12, docs/cmm-inspection.md):
 from __future__ import annotations
 
 import html
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from camtol.files import atomic_write
+from camtol.report.display import output_error_unit
 
 if TYPE_CHECKING:
     from camtol.inspection.deviations import CmmInspection
@@ -48,7 +48,8 @@ def motion_unit(functional: FunctionalDeviation) -> tuple[str, float]:
     (str, float)
         (``um``, 1e3) for a translating follower, (``deg``, 180/π) for an oscillating one.
     """
-    return ("um", 1e3) if functional.unit == "mm" else ("deg", 180.0 / math.pi)
+    shown = output_error_unit(functional.unit)
+    return shown.unit, shown.factor
 
 
 def inspection_json(

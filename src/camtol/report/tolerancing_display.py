@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.jet import FloatArray
-from camtol.report.display import DisplayUnits
+from camtol.report.display import DisplayUnits, output_error_unit
+from camtol.report.units import pretty_unit
 
 if TYPE_CHECKING:  # pragma: no cover
     from camtol.design import CamDesign
@@ -71,7 +72,8 @@ def describe_source(model: ResolvedDistribution | ProfileProcess) -> str:
             f"{what} profile error, stationary Gaussian σ = {model.sigma_um:g} µm,"
             f" correlation length {model.correlation_deg:g}° ({model.orders.size} harmonics)"
         )
-    scale, unit = (1e3, "µm") if model.unit == "mm" else (180.0 / math.pi, "°")
+    shown = output_error_unit(model.unit)
+    scale, unit = shown.factor, pretty_unit(shown.unit)
     zone = f"[{model.lower * scale:.4g}, {model.upper * scale:.4g}] {unit}"
     if model.kind == "normal":
         cut = "truncated" if model.truncate else "untruncated"

@@ -123,8 +123,7 @@ def prepare(
             f"design {design.name!r} has no [tolerances] and no profile process: nothing to sample"
         )
     sens = sensitivity_matrices(design, plan, theta, left)
-    unit = "mm" if design.mechanism.output == "translating" else "rad"
-    return Study(design, theta, left, plan, sens, unit)
+    return Study(design, theta, left, plan, sens, design.mechanism.output_unit)
 
 
 def _check_samples(samples: int, mode: Mode, angles: int) -> None:
