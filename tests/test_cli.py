@@ -209,3 +209,27 @@ def test_plot_at_a_chosen_angle(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert main(bad_args) == 2
     assert "--plot-angle=nan is not allowed; give a cam angle from 0" in capsys.readouterr().err
     assert not bad.exists()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["analyze", "--example", "cw06-translating"],  # tables printed by rich
+        ["montecarlo", "--example", "cw06-oscillating", "--samples", "500"],  # click.echo
+    ],
+)
+def test_reader_leaving_early_is_quiet(args: list[str]) -> None:
+    """`camtol ... | head`: no error line, no traceback, status 1 (rich's convention)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "camtol", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert proc.stdout is not None
+    proc.stdout.close()  # the reader leaves before the first line: every write fails
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1
+    assert err.decode() == "", err.decode()

@@ -202,6 +202,9 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
         except CamtolError as exc:
             click.echo(f"camtol: error: {_one_line(str(exc))}", err=True)
             code = EXIT_USAGE
+        except BrokenPipeError:  # stdout's reader left (`| head`): quiet, status 1 as rich
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            code = EXIT_FAIL
         except OSError as exc:  # an input or output the OS refuses, in one line
             name = exc.filename if exc.filename is not None else "a file"
             click.echo(f"camtol: error: {name}: {exc.strerror or exc}", err=True)
@@ -587,10 +590,6 @@ def main(args: Sequence[str] | None = None) -> int:
     except click.exceptions.Exit as e:
         return int(e.exit_code)
     return EXIT_OK
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
 
 
 def console_main() -> None:
