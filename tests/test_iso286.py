@@ -110,8 +110,9 @@ def test_size_ranges() -> None:
 @pytest.mark.parametrize(("lo", "hi", "values"), THEORY_S7_ROWS)
 def test_theory_s7_rows_exact(lo: int, hi: int, values: tuple[int, ...]) -> None:
     """Every THEORY §7 row is reproduced exactly, at both ends and inside."""
-    # Both ends of the range and its middle give the §7 row exactly.
-    for size in (math.nextafter(float(lo), math.inf), (lo + hi) / 2, float(hi)):
+    # Both ends of the range and its middle give the §7 row exactly (just over lo: a part
+    # in 10^9 over it, as a part in 10^12 is rounding noise, SIZE_RTOL).
+    for size in (max(lo * (1.0 + 1e-9), 1e-9), (lo + hi) / 2, float(hi)):
         got = tuple(tolerance_um(g, size) for g in THEORY_S7_COLUMNS)
         assert got == tuple(float(v) for v in values), (lo, hi, size)
 
@@ -241,10 +242,10 @@ def test_boundary_belongs_to_lower_range() -> None:
 
 @pytest.mark.parametrize("index", range(len(SIZE_RANGES_MM) - 1))
 def test_every_boundary(index: int) -> None:
-    """Each upper limit takes its own row, the next float the next row."""
+    """Each upper limit takes its own row, a size a part in 10^9 above the next row."""
     a, b = SIZE_RANGES_MM[index]
     assert tolerance_um("IT9", b) == tolerance_um("IT9", (a + b) / 2)
-    just_above = math.nextafter(b, math.inf)
+    just_above = b * (1.0 + 1e-9)
     lo2, hi2 = SIZE_RANGES_MM[index + 1]
     assert tolerance_um("IT9", just_above) == tolerance_um("IT9", (lo2 + hi2) / 2)
     assert tolerance_um("IT9", just_above) > tolerance_um("IT9", b)
@@ -256,7 +257,7 @@ def test_table_ends() -> None:
     assert tolerance_um("IT6", 3150.0) == 135.0
     assert tolerance_um("IT6", 3150) == 135.0  # int accepted
     assert tolerance_um("IT01", 500.0) == 4.0
-    assert tolerance_um("IT14", math.nextafter(1.0, math.inf)) == 250.0
+    assert tolerance_um("IT14", 1.0 + 1e-9) == 250.0
 
 
 # -------------------------------------------------------------------------- errors
@@ -518,3 +519,43 @@ def test_bracket_contains_deviation(size: float, deviation: float) -> None:
     if b.lower is not None and b.upper is not None:
         # adjacent grades, or the same grade on an exact hit
         assert grades.index(b.upper) - grades.index(b.lower) in (0, 1)
+
+
+
+# ------------------------------------------------- a computed size as a nominal size
+
+
+@pytest.mark.parametrize("limit", [hi for _, hi in SIZE_RANGES_MM])
+def test_rounding_noise_above_a_limit_stays_in_the_range(limit: float) -> None:
+    """A size a few ulps above a limit is the limit (SIZE_RTOL); 1e-9 above is not.
+
+    Sizes come with rounding noise: math.degrees(math.radians(6.0)) is
+    6.000000000000001, a cam's radius of 50 mm comes out as 50.000000000000007.
+    """
+    noisy = limit
+    for _ in range(8):
+        noisy = math.nextafter(noisy, math.inf)
+    assert tolerance_um("IT9", noisy) == tolerance_um("IT9", limit)
+    if limit < 3150.0:
+        assert tolerance_um("IT9", limit * (1.0 + 1e-9)) > tolerance_um("IT9", limit)
+    else:
+        with pytest.raises(ToleranceGradeError, match="outside ISO 286-1 Table 1"):
+            tolerance_um("IT9", limit * (1.0 + 1e-9))
+
+
+@pytest.mark.parametrize("degrees", [3.0, 6.0, 30.0, 120.0, 250.0, 500.0])
+def test_an_angle_through_radians_keeps_its_range(degrees: float) -> None:
+    """Degrees → radians → degrees (how a design stores its angles) keeps the range."""
+    back = math.degrees(math.radians(degrees))
+    assert angle_tolerance_deg("IT6", back) == angle_tolerance_deg("IT6", degrees)
+
+
+def test_computed_radius_on_a_limit_takes_the_range_it_closes() -> None:
+    """A design's maximum radius of 50 mm, with noise, gives IT6 = 16 µm (30-50 mm)."""
+    from camtol.config import load_example
+
+    design = load_example("cw06-translating")  # r = "IT6"
+    for radius in (50.0, 50.000000000000007, 49.99999999999999, 50.001):
+        (r,) = (t for t in design.resolve_tolerances(radius) if t.key == "r")
+        expected = 19e-3 if radius > 50.0001 else 16e-3  # IT6: 16 µm to 50 mm, 19 above
+        assert r.deviation == pytest.approx(expected, abs=1e-15), radius

@@ -107,6 +107,18 @@ SIZE_RANGES_MM: Final[tuple[tuple[float, float], ...]] = tuple(
 """Nominal size ranges of Table 1 as ``(over, up_to_and_including)`` pairs in mm."""
 
 _UPPER_LIMITS_MM: Final[tuple[float, ...]] = tuple(hi for _, hi in SIZE_RANGES_MM)
+#: A size within this fraction above a range limit is that limit. Sizes reach the table
+#: with rounding noise: a cam's computed maximum radius of 50 mm comes out as
+#: 50.000000000000007, a lift of 6° as 6.000000000000001 after degrees → radians →
+#: degrees. Noise must not move a size into the next range ("over 30 up to and including
+#: 50" is the drawing's 50 mm); a part in 10^12 is far above it and far below anything a
+#: drawing gives (50 fm at 50 mm).
+SIZE_RTOL: Final[float] = 1e-12
+
+
+def _table_size(size: float) -> float:
+    """``size`` as it meets the range limits: moved down by :data:`SIZE_RTOL` of itself."""
+    return size / (1.0 + SIZE_RTOL)
 
 # Display units of a bracket and the divisor from the table's micrometres to them.
 _UNIT_DIVISOR: Final[dict[str, float]] = {"µm": 1.0, "°": 1000.0}
@@ -162,17 +174,18 @@ def _row_index(size: float, angle: bool) -> int:
     """Return the Table 1 row for ``size``; ``angle`` words the error messages."""
     if isinstance(size, bool) or not isinstance(size, (int, float)):
         raise ToleranceGradeError(f"{_what(size, angle)}: must be a real number")
-    if not (math.isfinite(size) and 0.0 < size <= _MAX_NOMINAL_MM):
+    if not (math.isfinite(size) and 0.0 < size and _table_size(size) <= _MAX_NOMINAL_MM):
         raise ToleranceGradeError(
             f"{_what(size, angle)} is outside ISO 286-1 Table 1: it must be greater "
             f"than 0 and at most {_MAX_NOMINAL_MM:g} mm"
         )
     # "over a up to and including b": the first range whose upper limit is >= size.
-    return bisect_left(_UPPER_LIMITS_MM, size)
+    return bisect_left(_UPPER_LIMITS_MM, _table_size(size))
 
 
 def _undefined_reason(grade: str, size: float) -> str | None:
     """Say why ``grade`` is not defined at ``size`` (already in range), else None."""
+    size = _table_size(size)
     if grade in _FINE_GRADES and size > _FINE_GRADES_MAX_MM:
         return (
             f"IT01 and IT0 are tabulated only for nominal sizes up to "
@@ -219,7 +232,9 @@ def tolerance_um(grade: str, nominal_mm: float) -> float:
         Tolerance grade, parsed by :func:`parse_grade` (``"IT6"``, ``"it6"``, ...).
     nominal_mm : float
         Nominal size in mm, ``0 < nominal_mm <= 3150``. Ranges are "over a, up to
-        and including b": a size on a range boundary takes the lower range.
+        and including b": a size on a range boundary takes the lower range, and so
+        does a size within :data:`SIZE_RTOL` (a part in 10^12) above it, which is
+        rounding noise (a computed 50.000000000000007 is the drawing's 50).
 
     Returns
     -------
@@ -291,7 +306,7 @@ def _abs_angle(value: float) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ToleranceGradeError(f"{_what(value, True)}: must be a real number")
     size = abs(float(value))
-    if not (math.isfinite(size) and 0.0 < size <= _MAX_NOMINAL_MM):
+    if not (math.isfinite(size) and 0.0 < size and _table_size(size) <= _MAX_NOMINAL_MM):
         raise ToleranceGradeError(
             f"{_what(value, True)} is outside ISO 286-1 Table 1: its magnitude must "
             f"be greater than 0 and at most {_MAX_NOMINAL_MM:g}"
