@@ -241,3 +241,39 @@ def test_dwells_evaluated_once_give_the_same_numbers(
     for key in s1:
         for part in ("v", "d1", "d2"):
             np.testing.assert_array_equal(getattr(s1[key], part), getattr(s2[key], part))
+
+
+@pytest.mark.parametrize(("name", "label"), _cams_of_examples())
+def test_motion_only_geometry_is_the_frame_geometry_turned(name: str, label: str) -> None:
+    """The engine's cam-frame geometry of a motion-only follower equals its formulas at θ.
+
+    The engine evaluates the contact geometry once per motion state at θ = 0 and turns
+    the points by θ (kinematic inversion, THEORY §0); the mechanism's own formulas at
+    every θ must agree: points to 1e-12 of the cam's size, angles to 1e-12 rad.
+    """
+    cam = next(c for c in load_example(name).cams() if c.label == label).design
+    mech = cam.mechanism
+    theta, left = analysis_grid(0.1, cam.program.boundaries_rad)
+    m = cam.program.evaluate(theta, left_limit=left)
+    kin, _ = evaluate_engine(cam, theta, left, chunk=1_500)  # chunks, dwells compressed
+    g = mech.contact(theta, m.lift, m.velocity)
+    size = float(np.max(kin.radius_mm))
+    for ours, direct in (
+        (kin.contact_x_mm, g.contact_x),
+        (kin.contact_y_mm, g.contact_y),
+        (kin.centre_x_mm, g.centre_x),
+        (kin.centre_y_mm, g.centre_y),
+        (kin.radius_mm, np.hypot(g.contact_x, g.contact_y)),
+        (kin.q_mm, g.q),
+    ):
+        np.testing.assert_allclose(
+            ours, np.broadcast_to(direct, theta.shape), rtol=0, atol=1e-12 * size
+        )
+    for ours, direct in (
+        (kin.pressure_angle_rad, g.pressure_angle),
+        (kin.shift_angle_rad, g.shift_angle),
+    ):
+        np.testing.assert_allclose(ours, np.broadcast_to(direct, theta.shape), rtol=0, atol=1e-12)
+    if "face_contact" in g.extras:
+        assert kin.face_contact_mm is not None
+        np.testing.assert_allclose(kin.face_contact_mm, g.extras["face_contact"], atol=1e-12 * size)

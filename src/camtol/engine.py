@@ -5,8 +5,11 @@ at every angle: the kinematics (THEORY §2) and the sensitivity of the output to
 error source with its first and second θ-derivatives (THEORY §3.1-3.5), from a single
 evaluation of the mechanism's closed forms:
 
-- a mechanism with a lean closed form for its sensitivities (flat faces) gets its contact
-  geometry as plain arrays and its sensitivities as jets;
+- a mechanism with a lean closed form for its sensitivities (every follower type) gets
+  its contact geometry as plain arrays and its sensitivities as jets; a motion-only one
+  (:attr:`~camtol.mechanisms.base.Mechanism.motion_only`) is evaluated once per motion
+  state at θ = 0, in the frame of the line of centres, and its points are then turned by
+  θ (kinematic inversion, THEORY §0): a dwell costs one row;
 - otherwise one evaluation of the contact geometry as jets serves both (the kinematics
   are its values).
 
@@ -147,14 +150,16 @@ def _motion_quantities(
     repeats: NDArray[np.bool_] | None,
     *,
     sources: bool = True,
-) -> tuple[dict[str, JetLike], FloatArray]:
-    """Lean sensitivities (unless not ``sources``) and curvature radius of one chunk.
+) -> tuple[dict[str, JetLike], dict[str, JetLike], FloatArray]:
+    """Contact geometry, lean sensitivities (unless not ``sources``) and ρ of one chunk.
 
-    ``state`` is (θ, S, V, A, J) of the chunk.
+    ``state`` is (θ, S, V, A, J) of the chunk. The geometry of a
+    :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
+    centres, THEORY §0), for :func:`_turn` to turn to the chunk's angles.
 
-    With ``repeats`` (a :attr:`Mechanism.motion_only` mechanism), rows that repeat the
-    previous motion state are not evaluated but copied from the row before them: the
-    same numbers, a dwell costing one row.
+    With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
+    state are not evaluated but copied from the row before them: the same numbers, a
+    dwell costing one row.
     """
     t, s, v, acc, jerk = state
     index = None
@@ -165,18 +170,37 @@ def _motion_quantities(
             keep = np.flatnonzero(fresh)
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
             t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
+    g = mech.contact(0.0 if mech.motion_only else t, s, v)
+    geometry: dict[str, JetLike] = {
+        key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and g.q is v)
+    }
+    geometry.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
+    geometry["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
     out: dict[str, JetLike] = {}
     if sources:
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
-    rho = mech.curvature_radius(t, s, v, acc)
+    geometry["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     if index is None:
-        return out, rho
+        return geometry, out, geometry["curvature_radius"]
     done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
     for key, x in out.items():
         if id(x) not in done:
             done[id(x)] = _spread(x, index)
         out[key] = done[id(x)]
-    return out, np.asarray(_spread(rho, index))
+    geometry = {key: _spread(jet.value(x), index) for key, x in geometry.items()}
+    return geometry, out, np.asarray(geometry["curvature_radius"])
+
+
+def _turn(geometry: dict[str, JetLike], theta_rad: FloatArray) -> None:
+    """Turn the points of a frame geometry (θ = 0) to the cam angles, in place.
+
+    A motion-only mechanism's cam-frame geometry at θ is its frame geometry turned by θ
+    (kinematic inversion, THEORY §0); lengths and angles do not turn.
+    """
+    c, s = np.cos(theta_rad), np.sin(theta_rad)
+    for kx, ky in (("contact_x", "contact_y"), ("centre_x", "centre_y")):
+        x, y = jet.value(geometry[kx]), jet.value(geometry[ky])
+        geometry[kx], geometry[ky] = c * x - s * y, s * x + c * y
 
 
 def _spread(x: JetLike, index: NDArray[np.intp]) -> JetLike:
@@ -266,22 +290,25 @@ def evaluate_engine(
         if shared:
             g = mech.contact(th, lift, vel)
             sources = dict(mech.sensitivities(g, th))
-            rho = mech.curvature_radius(t, s, v, acc)
+            q_is_velocity = g.q is v
+            values = {
+                key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)
+            }
+            values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
+            values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
+            values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         else:
-            g = mech.contact(t, s, v)
-            sources, rho = _motion_quantities(
+            values, sources, _ = _motion_quantities(
                 mech,
                 (t, s, v, acc, jerk),
                 None if repeats is None else repeats[at],
                 sources=sensitivities,
             )
+            q_is_velocity = "q" not in values
+            if mech.motion_only:
+                _turn(values, t)
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
-        q_is_velocity = g.q is v
-        values = {key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)}
-        values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-        values["curvature_radius"] = rho
-        values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         for key, x in sources.items():
             if isinstance(x, Jet):
                 values[f"s:{key}"], values[f"s:{key}'"], values[f"s:{key}''"] = x.v, x.d1, x.d2
@@ -289,7 +316,7 @@ def evaluate_engine(
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
         cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at)
-        del g, sources, values
+        del sources, values
     c = cols
     kin = Kinematics(
         theta_rad=theta,

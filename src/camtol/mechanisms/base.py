@@ -159,10 +159,11 @@ class Mechanism(ABC):
     #: Position in lists of follower types (messages, documentation).
     listing_order: ClassVar[int] = 100
     #: :meth:`error_sensitivities` and :meth:`curvature_radius` depend on the motion
-    #: state (S, V, A, J) alone, not on θ. True of every follower whose frame turns
-    #: uniformly against the cam (kinematic inversion, THEORY §0): what the follower sees
-    #: does not depend on where the cam is. The engine then evaluates them once per dwell
-    #: (tested for every follower type that sets it).
+    #: state (S, V, A, J) alone, not on θ, and :meth:`contact` at θ is its geometry at
+    #: θ = 0 turned by θ. True of every follower whose frame turns uniformly against the
+    #: cam (kinematic inversion, THEORY §0): what the follower sees does not depend on
+    #: where the cam is. The engine then evaluates them once per dwell and turns the
+    #: points (tested for every follower type that sets it).
     motion_only: ClassVar[bool] = False
 
     @classmethod
