@@ -111,7 +111,7 @@ def test_size_ranges() -> None:
 def test_theory_s7_rows_exact(lo: int, hi: int, values: tuple[int, ...]) -> None:
     """Every THEORY §7 row is reproduced exactly, at both ends and inside."""
     # Both ends of the range and its middle give the §7 row exactly (just over lo: a part
-    # in 10^9 over it, as a part in 10^12 is rounding noise, SIZE_RTOL).
+    # in 10^9 over it, as a part in 10^12 is rounding noise, ROUNDING_RTOL).
     for size in (max(lo * (1.0 + 1e-9), 1e-9), (lo + hi) / 2, float(hi)):
         got = tuple(tolerance_um(g, size) for g in THEORY_S7_COLUMNS)
         assert got == tuple(float(v) for v in values), (lo, hi, size)
@@ -521,13 +521,12 @@ def test_bracket_contains_deviation(size: float, deviation: float) -> None:
         assert grades.index(b.upper) - grades.index(b.lower) in (0, 1)
 
 
-
 # ------------------------------------------------- a computed size as a nominal size
 
 
 @pytest.mark.parametrize("limit", [hi for _, hi in SIZE_RANGES_MM])
 def test_rounding_noise_above_a_limit_stays_in_the_range(limit: float) -> None:
-    """A size a few ulps above a limit is the limit (SIZE_RTOL); 1e-9 above is not.
+    """A size a few ulps above a limit is the limit (ROUNDING_RTOL); 1e-9 above is not.
 
     Sizes come with rounding noise: math.degrees(math.radians(6.0)) is
     6.000000000000001, a cam's radius of 50 mm comes out as 50.000000000000007.
@@ -559,3 +558,23 @@ def test_computed_radius_on_a_limit_takes_the_range_it_closes() -> None:
         (r,) = (t for t in design.resolve_tolerances(radius) if t.key == "r")
         expected = 19e-3 if radius > 50.0001 else 16e-3  # IT6: 16 µm to 50 mm, 19 above
         assert r.deviation == pytest.approx(expected, abs=1e-15), radius
+
+
+@pytest.mark.parametrize("size", [25.0, 100.0, 1000.0])
+@pytest.mark.parametrize("grade", ["IT5", "IT6", "IT7", "IT9", "IT11"])
+def test_a_deviation_equal_to_a_grade_through_mm_is_that_grade(grade: str, size: float) -> None:
+    """An IT value carried in mm and back (13 → 13.000000000000002 µm) is that grade."""
+    um = tolerance_um(grade, size)
+    back = (um * 1e-3) * 1e3
+    for dev in (back, math.nextafter(um, math.inf), math.nextafter(um, 0.0)):
+        b = grade_of_deviation(dev, size)
+        assert b.lower == b.upper == grade, (dev, b.describe())
+    b = grade_of_deviation(um * (1.0 + 1e-9), size)  # really above: the next bracket
+    assert b.lower == grade and b.upper != grade
+
+
+def test_an_angle_deviation_equal_to_a_grade_through_radians_is_that_grade() -> None:
+    """0.011° (IT6 of 15°) read back from radians is IT6."""
+    back = math.degrees(math.radians(0.011))
+    b = grade_of_angle_deviation(back, 15.0)
+    assert b.lower == b.upper == "IT6"

@@ -107,18 +107,20 @@ SIZE_RANGES_MM: Final[tuple[tuple[float, float], ...]] = tuple(
 """Nominal size ranges of Table 1 as ``(over, up_to_and_including)`` pairs in mm."""
 
 _UPPER_LIMITS_MM: Final[tuple[float, ...]] = tuple(hi for _, hi in SIZE_RANGES_MM)
-#: A size within this fraction above a range limit is that limit. Sizes reach the table
+#: A size within this fraction above a range limit is that limit, and a deviation within
+#: it of a table value is that value (:func:`grade_of_deviation`). Sizes reach the table
 #: with rounding noise: a cam's computed maximum radius of 50 mm comes out as
 #: 50.000000000000007, a lift of 6° as 6.000000000000001 after degrees → radians →
 #: degrees. Noise must not move a size into the next range ("over 30 up to and including
 #: 50" is the drawing's 50 mm); a part in 10^12 is far above it and far below anything a
 #: drawing gives (50 fm at 50 mm).
-SIZE_RTOL: Final[float] = 1e-12
+ROUNDING_RTOL: Final[float] = 1e-12
 
 
 def _table_size(size: float) -> float:
-    """``size`` as it meets the range limits: moved down by :data:`SIZE_RTOL` of itself."""
-    return size / (1.0 + SIZE_RTOL)
+    """``size`` as it meets the range limits: moved down by :data:`ROUNDING_RTOL` of itself."""
+    return size / (1.0 + ROUNDING_RTOL)
+
 
 # Display units of a bracket and the divisor from the table's micrometres to them.
 _UNIT_DIVISOR: Final[dict[str, float]] = {"µm": 1.0, "°": 1000.0}
@@ -233,7 +235,7 @@ def tolerance_um(grade: str, nominal_mm: float) -> float:
     nominal_mm : float
         Nominal size in mm, ``0 < nominal_mm <= 3150``. Ranges are "over a, up to
         and including b": a size on a range boundary takes the lower range, and so
-        does a size within :data:`SIZE_RTOL` (a part in 10^12) above it, which is
+        does a size within :data:`ROUNDING_RTOL` (a part in 10^12) above it, which is
         rounding noise (a computed 50.000000000000007 is the drawing's 50).
 
     Returns
@@ -405,6 +407,9 @@ def _bracket(deviation: float, size: float, unit: str) -> GradeBracket:
     # Compare in the display unit, so that e.g. 0.027° equals IT8 at 15° exactly.
     angle = unit != "µm"
     graded = [(g, v, v / divisor) for g, v in _defined_values_um(size, angle)]
+    # A deviation equal to a table value up to rounding noise is that value: 13 µm
+    # through mm comes back as 13.000000000000002 and is IT6, not "between IT6 and IT7".
+    dev = next((val for _, _, val in graded if abs(dev - val) <= ROUNDING_RTOL * val), dev)
     first_g, first_um, first_val = graded[0]
     if dev < first_val:
         return GradeBracket(None, first_g, None, first_um, unit)
@@ -436,7 +441,7 @@ def grade_of_deviation(deviation_um: float, nominal_mm: float) -> GradeBracket:
     -------
     GradeBracket
         The bracketing grades; ``lower == upper`` when the deviation equals a grade
-        value exactly.
+        value, exactly or within :data:`ROUNDING_RTOL` (a part in 10^12) of it.
 
     Raises
     ------
