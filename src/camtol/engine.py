@@ -150,8 +150,8 @@ def _motion_quantities(
     repeats: NDArray[np.bool_] | None,
     *,
     sources: bool = True,
-) -> tuple[dict[str, JetLike], dict[str, JetLike], FloatArray]:
-    """Contact geometry, lean sensitivities (unless not ``sources``) and ρ of one chunk.
+) -> tuple[dict[str, JetLike], dict[str, JetLike]]:
+    """Contact geometry with ρ, and lean sensitivities (unless not ``sources``), of a chunk.
 
     ``state`` is (θ, S, V, A, J) of the chunk. The geometry of a
     :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
@@ -181,14 +181,13 @@ def _motion_quantities(
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     geometry["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     if index is None:
-        return geometry, out, geometry["curvature_radius"]
+        return geometry, out
     done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
     for key, x in out.items():
         if id(x) not in done:
             done[id(x)] = _spread(x, index)
         out[key] = done[id(x)]
-    geometry = {key: _spread(jet.value(x), index) for key, x in geometry.items()}
-    return geometry, out, np.asarray(geometry["curvature_radius"])
+    return {key: _spread(jet.value(x), index) for key, x in geometry.items()}, out
 
 
 def _turn(geometry: dict[str, JetLike], theta_rad: FloatArray) -> None:
@@ -298,7 +297,7 @@ def evaluate_engine(
             values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
             values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         else:
-            values, sources, _ = _motion_quantities(
+            values, sources = _motion_quantities(
                 mech,
                 (t, s, v, acc, jerk),
                 None if repeats is None else repeats[at],
