@@ -8,6 +8,11 @@ import numpy as np
 import pytest
 
 from camtol.config import load_example
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
 from camtol.kinematics import analysis_grid, kinematics
 from camtol.summary import STANDARD_GRAVITY, cam_geometry, motion_peaks
 
@@ -66,3 +71,28 @@ def test_pressure_angle_limit_flag() -> None:
     g = cam_geometry("", d.mechanism, kin, pressure_angle_limit_deg=89.0)
     assert not g.exceeds_pressure_angle_limit
     assert not cam_geometry("", d.mechanism, kin).exceeds_pressure_angle_limit
+
+
+@pytest.mark.parametrize("face_deg", [6.0, 30.0, 3.0, 15.0])
+def test_a_pressure_angle_equal_to_its_limit_meets_it(face_deg: float) -> None:
+    """A flat face of obliquity φ = limit has |φ| = limit everywhere: no warning, no flag.
+
+    The obliquity goes through radians (6° comes back as 6.000000000000001°); that
+    noise is not "beyond the limit". A thousandth of a degree more is.
+    """
+    import warnings
+
+    from camtol.analysis import analyze
+    from camtol.config import design_from_mapping, dump_design
+    from camtol.exceptions import PressureAngleWarning
+
+    data = tomllib.loads(dump_design(load_example("cw06-translating")))
+    data["follower"]["face_angle_deg"] = face_deg
+    for limit, beyond in ((face_deg, False), (face_deg - 1e-3, True)):
+        data.setdefault("operation", {})["pressure_angle_limit_deg"] = limit
+        design = design_from_mapping(data)
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            a = analyze(design, step_deg=1.0)
+        assert a.pressure_angle_exceeds_limit is beyond
+        assert any(issubclass(w.category, PressureAngleWarning) for w in seen) is beyond

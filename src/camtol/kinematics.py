@@ -26,6 +26,7 @@ from camtol.motion import MotionState
 __all__ = [
     "Kinematics",
     "analysis_grid",
+    "beyond_pressure_angle_limit",
     "check_velocity_ratio",
     "contact_jets",
     "kinematics",
@@ -255,6 +256,30 @@ def _velocity_ratio(design: CamDesign, theta_rad: FloatArray, velocity: FloatArr
         )
 
 
+#: A pressure angle over its design limit by less than this fraction of the limit is at
+#: the limit: rounding noise (a face obliquity of 6° comes back as 6.000000000000001°).
+LIMIT_RTOL = 1e-12
+
+
+def beyond_pressure_angle_limit(angle_deg: float, limit_deg: float | None) -> bool:
+    """Whether |φ| = ``angle_deg`` is beyond the design limit (never without a limit).
+
+    Parameters
+    ----------
+    angle_deg : float
+        Largest |φ|. [deg]
+    limit_deg : float or None
+        The design's ``pressure_angle_limit_deg``. [deg]
+
+    Returns
+    -------
+    bool
+        True when ``angle_deg`` exceeds the limit by more than :data:`LIMIT_RTOL` of it;
+        a pressure angle equal to the limit meets it.
+    """
+    return limit_deg is not None and angle_deg - limit_deg > LIMIT_RTOL * abs(limit_deg)
+
+
 def check_geometry(design: CamDesign, kin: Kinematics) -> None:
     """Raise if the design cannot produce its motion; warn past the pressure-angle limit.
 
@@ -301,7 +326,7 @@ def check_geometry(design: CamDesign, kin: Kinematics) -> None:
             " is at or beyond 90°: the follower would jam"
         )
     limit = design.pressure_angle_limit_deg
-    if limit is not None and math.degrees(pa[j]) > limit:
+    if beyond_pressure_angle_limit(math.degrees(pa[j]), limit):
         warnings.warn(
             f"pressure angle reaches {math.degrees(kin.pressure_angle_rad[j]):.2f}° at"
             f" θ={deg[j]:.2f}°, beyond the design limit {limit:g}°",

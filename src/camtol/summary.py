@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camtol.jet import FloatArray
-from camtol.kinematics import Kinematics
+from camtol.kinematics import Kinematics, beyond_pressure_angle_limit
 from camtol.mechanisms.base import Mechanism
 from camtol.motion import LiftTable, MotionProgram
 
@@ -197,8 +197,9 @@ class CamGeometry:
     @property
     def exceeds_pressure_angle_limit(self) -> bool:
         """True when max |φ| is beyond the design limit (False without a limit)."""
-        limit = self.pressure_angle_limit_deg
-        return limit is not None and self.max_abs_pressure_angle_deg > limit
+        return beyond_pressure_angle_limit(
+            self.max_abs_pressure_angle_deg, self.pressure_angle_limit_deg
+        )
 
 
 def _min_where(mask: NDArray[np.bool_], values: FloatArray, deg: FloatArray) -> tuple[float, float]:
