@@ -44,7 +44,7 @@ TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True)
-def _cw06_pass(theta, out, ext, dev):  # type: ignore[no-untyped-def]
+def _cw06_pass(theta, out, ext, dev):
     """Every per-angle quantity of ``analyse`` for CW06 Example 1, in one pass."""
     cphi, sphi, tphi = math.cos(PHI), math.sin(PHI), math.tan(PHI)
     big_l0 = RB / cphi - E * tphi
@@ -114,26 +114,26 @@ def _cw06_pass(theta, out, ext, dev):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _mul(a0, a1, a2, b0, b1, b2):  # type: ignore[no-untyped-def]
+def _mul(a0, a1, a2, b0, b1, b2):
     return a0 * b0, a1 * b0 + a0 * b1, a2 * b0 + 2.0 * a1 * b1 + a0 * b2
 
 
 @njit(inline="always")
-def _div(a0, a1, a2, b0, b1, b2):  # type: ignore[no-untyped-def]
+def _div(a0, a1, a2, b0, b1, b2):
     q0 = a0 / b0
     q1 = (a1 - q0 * b1) / b0
     return q0, q1, (a2 - 2.0 * q1 * b1 - q0 * b2) / b0
 
 
 @njit(inline="always")
-def _sqrt(a0, a1, a2):  # type: ignore[no-untyped-def]
+def _sqrt(a0, a1, a2):
     r0 = math.sqrt(a0)
     r1 = a1 / (2.0 * r0)
     return r0, r1, (a2 - 2.0 * r1 * r1) / (2.0 * r0)
 
 
 @njit(cache=True)
-def _roller_engine(theta, lift, vel, acc, jerk, xi0, f, arm, rf, side, out):  # type: ignore[no-untyped-def]
+def _roller_engine(theta, lift, vel, acc, jerk, xi0, f, arm, rf, side, out):
     """Oscillating roller (THEORY §2.4, §3.3): geometry, ρ and the lean sensitivities."""
     k = -side
     for i in range(theta.size):
