@@ -97,14 +97,15 @@ class _SinePiece:
             return self.s0 + self.v0 * d + 0.5 * a * d * d, self.v0 + a * d, a, np.zeros_like(x)
         ph = self.k * x + self.p
         ph0 = self.k * self.x0 + self.p
-        a = self.c + self.q * np.sin(ph)
-        j = self.q * self.k * np.cos(ph)
-        v = self.v0 + self.c * d - self.q / self.k * (np.cos(ph) - math.cos(ph0))
+        sin_ph, cos_ph = np.sin(ph), np.cos(ph)  # once each: transcendentals dominate
+        a = self.c + self.q * sin_ph
+        j = self.q * self.k * cos_ph
+        v = self.v0 + self.c * d - self.q / self.k * (cos_ph - math.cos(ph0))
         s = (
             self.s0
             + self.v0 * d
             + 0.5 * self.c * d * d
-            - self.q / self.k * ((np.sin(ph) - math.sin(ph0)) / self.k - math.cos(ph0) * d)
+            - self.q / self.k * ((sin_ph - math.sin(ph0)) / self.k - math.cos(ph0) * d)
         )
         return s, v, a, j
 
@@ -131,11 +132,17 @@ def _piecewise_sine_law(
 
     def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(built) - 1)
-        out = [np.empty_like(x) for _ in range(4)]
+        out = np.empty((4, *np.shape(x)))
         for i, piece in enumerate(built):
-            m = idx == i
-            if np.any(m):
-                for arr, val in zip(out, piece.evaluate(x[m]), strict=True):
+            rows = np.flatnonzero(idx == i)
+            if rows.size == 0:
+                continue
+            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
+            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
+            for arr, val in zip(out, piece.evaluate(x[m]), strict=True):
+                if isinstance(m, slice):
+                    np.multiply(val, scale, out=arr[m])  # straight into the block
+                else:
                     arr[m] = val * scale
         return out[0], out[1], out[2], out[3]
 
