@@ -62,9 +62,21 @@ class _Columns:
         self.n = n
         self._full: dict[str, FloatArray] = {}
         self._const: dict[str, float] = {}
+        self._index: NDArray[np.intp] | None = None
 
-    def put_chunk(self, values: dict[str, FloatArray], where: slice) -> None:
-        """Write one chunk of every quantity (the first chunk also classifies them)."""
+    def put_chunk(
+        self,
+        values: dict[str, FloatArray],
+        where: slice,
+        index: NDArray[np.intp] | None = None,
+    ) -> None:
+        """Write one chunk of every quantity (the first chunk also classifies them).
+
+        With ``index``, a value shorter than the chunk holds the chunk's evaluated rows
+        only (dwells compressed); row ``i`` of the chunk is its row ``index[i]``, spread
+        straight into the result.
+        """
+        self._index = index
         if where.start != 0:
             for key, v in values.items():
                 self._put(key, v, where)
@@ -85,7 +97,7 @@ class _Columns:
         block = np.empty((len(varying), self.n))
         for row, key in zip(block, varying, strict=True):
             self._full[key] = row
-            row[where] = values[key]
+            self._write(row[where], values[key])
 
     def _put(self, key: str, v: FloatArray, where: slice) -> None:
         out = self._full.get(key)
@@ -95,7 +107,14 @@ class _Columns:
             out = self._full[key] = np.empty(self.n)
             if key in self._const:
                 out[: where.start] = self._const.pop(key)
-        out[where] = v
+        self._write(out[where], v)
+
+    def _write(self, out: FloatArray, v: FloatArray) -> None:
+        """Fill ``out`` (a chunk's rows) with ``v``, spreading compressed rows."""
+        if self._index is not None and v.shape != out.shape:
+            np.take(v, self._index, out=out, mode="clip")  # "clip": unbuffered; in range
+        else:
+            out[...] = v
 
     def get(self, key: str) -> FloatArray | None:
         """Return the full-length array (or broadcast constant) of a quantity, if it was put."""
@@ -115,9 +134,15 @@ class _Columns:
 
 
 def _full_length(x: JetLike, shape: tuple[int, ...]) -> FloatArray:
-    """Return the value of ``x`` as an array of ``shape`` (a scalar broadcast, read-only)."""
-    v = jet.value(x)
-    return v if v.shape == shape else np.broadcast_to(v, shape)
+    """Return the value of ``x`` as an array of ``shape`` (a scalar broadcast, read-only).
+
+    A one-dimensional array of another length (a chunk's compressed rows) is returned
+    as it is, for :meth:`_Columns.put_chunk` to spread.
+    """
+    v = np.asarray(jet.value(x))
+    if v.shape == shape or (v.ndim == 1 and v.size > 1 and v.strides != (0,)):
+        return v
+    return np.broadcast_to(v.reshape(-1)[0] if v.ndim else v, shape)
 
 
 def _motion(
@@ -150,7 +175,7 @@ def _motion_quantities(
     repeats: NDArray[np.bool_] | None,
     *,
     sources: bool = True,
-) -> tuple[dict[str, JetLike], dict[str, JetLike]]:
+) -> tuple[dict[str, JetLike], dict[str, JetLike], NDArray[np.intp] | None]:
     """Contact geometry with ρ, and lean sensitivities (unless not ``sources``), of a chunk.
 
     ``state`` is (θ, S, V, A, J) of the chunk. The geometry of a
@@ -158,8 +183,9 @@ def _motion_quantities(
     centres, THEORY §0), for :func:`_turn` to turn to the chunk's angles.
 
     With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
-    state are not evaluated but copied from the row before them: the same numbers, a
-    dwell costing one row.
+    state are not evaluated: the values hold the evaluated rows only and the returned
+    index gives each row of the chunk its evaluated row (None: every row evaluated).
+    The same numbers, a dwell costing one row.
     """
     t, s, v, acc, jerk = state
     index = None
@@ -180,37 +206,31 @@ def _motion_quantities(
     if sources:
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     geometry["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
-    if index is None:
-        return geometry, out
-    done: dict[int, JetLike] = {}  # a jet shared by two sources is spread once
-    for key, x in out.items():
-        if id(x) not in done:
-            done[id(x)] = _spread(x, index)
-        out[key] = done[id(x)]
-    return {key: _spread(jet.value(x), index) for key, x in geometry.items()}, out
+    return geometry, out, index
 
 
-def _turn(geometry: dict[str, JetLike], theta_rad: FloatArray) -> None:
+def _turn(
+    geometry: dict[str, JetLike], theta_rad: FloatArray, index: NDArray[np.intp] | None
+) -> None:
     """Turn the points of a frame geometry (θ = 0) to the cam angles, in place.
 
     A motion-only mechanism's cam-frame geometry at θ is its frame geometry turned by θ
-    (kinematic inversion, THEORY §0); lengths and angles do not turn.
+    (kinematic inversion, THEORY §0); lengths and angles do not turn. Compressed rows
+    (``index``, see :func:`_motion_quantities`) are spread first.
     """
     c, s = np.cos(theta_rad), np.sin(theta_rad)
     for kx, ky in (("contact_x", "contact_y"), ("centre_x", "centre_y")):
         x, y = jet.value(geometry[kx]), jet.value(geometry[ky])
+        if index is not None:
+            x, y = _spread(x, index), _spread(y, index)
         geometry[kx], geometry[ky] = c * x - s * y, s * x + c * y
 
 
-def _spread(x: JetLike, index: NDArray[np.intp]) -> JetLike:
+def _spread(x: FloatArray, index: NDArray[np.intp]) -> FloatArray:
     """Rows ``index`` of a chunk's compressed values (a constant stays a constant)."""
-    if isinstance(x, Jet):
-        return Jet(*(np.asarray(_spread(p, index)) for p in (x.v, x.d1, x.d2)))
     a = np.asarray(x)
-    if a.ndim == 0:
-        return x
-    if a.strides == (0,):
-        return np.broadcast_to(a[0], index.shape)
+    if a.ndim == 0 or a.strides == (0,):
+        return np.broadcast_to(a.reshape(-1)[0] if a.ndim else a, index.shape)
     return a[index]
 
 
@@ -286,6 +306,7 @@ def evaluate_engine(
         acc, jerk = motion.acceleration[at], motion.jerk[at]
         if shared or design_keys:
             th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
+        index = None
         if shared:
             g = mech.contact(th, lift, vel)
             sources = dict(mech.sensitivities(g, th))
@@ -297,7 +318,7 @@ def evaluate_engine(
             values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
             values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
         else:
-            values, sources = _motion_quantities(
+            values, sources, index = _motion_quantities(
                 mech,
                 (t, s, v, acc, jerk),
                 None if repeats is None else repeats[at],
@@ -305,7 +326,7 @@ def evaluate_engine(
             )
             q_is_velocity = "q" not in values
             if mech.motion_only:
-                _turn(values, t)
+                _turn(values, t, index)
         for key in design_keys:  # design-level sources the design tolerances
             sources[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         for key, x in sources.items():
@@ -314,7 +335,7 @@ def evaluate_engine(
             else:
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
-        cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at)
+        cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at, index)
         del sources, values
     c = cols
     kin = Kinematics(
