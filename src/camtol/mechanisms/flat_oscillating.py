@@ -128,10 +128,10 @@ class FlatOscillating(Mechanism):
         q = f * velocity / (1.0 - velocity)
         sx, cx = jet.sin(xi), jet.cos(xi)
         qe = (f + q) * sx
-        alpha = math.pi / 2 - xi
         c, s = jet.cos(theta), jet.sin(theta)
-        ax = (qe + e) * jet.cos(theta + alpha) - q * c
-        ay = (qe + e) * jet.sin(theta + alpha) - q * s
+        # (cos, sin)(θ + α) with α = 90° − ξ, from sin ξ and cos ξ: no further sine
+        ax = (qe + e) * (c * sx - s * cx) - q * c
+        ay = (qe + e) * (s * sx + c * cx) - q * s
         qx, qy = -q * c, -q * s
         u = (f + q) * cx
         pressure = jet.arctan2(e + 0.0 * u, u)
@@ -195,12 +195,13 @@ class FlatOscillating(Mechanism):
         """Closed-form ρ (see class Notes). [mm]"""
         f, e = self.pivot_distance_mm, self.face_offset_mm
         xi = self.initial_angle_rad + lift
+        sin_xi = np.sin(xi)  # once: transcendentals dominate
         one_v = 1.0 - velocity
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.asarray(
-                f * np.sin(xi)
+                f * sin_xi
                 + e
-                + f * (acceleration * np.cos(xi) / one_v**3 - velocity**2 * np.sin(xi) / one_v**2)
+                + f * (acceleration * np.cos(xi) / one_v**3 - velocity**2 * sin_xi / one_v**2)
             )
 
     def contact_element(self) -> OscillatingFace:
