@@ -277,3 +277,16 @@ def test_motion_only_geometry_is_the_frame_geometry_turned(name: str, label: str
     if "face_contact" in g.extras:
         assert kin.face_contact_mm is not None
         np.testing.assert_allclose(kin.face_contact_mm, g.extras["face_contact"], atol=1e-12 * size)
+
+
+def test_scaled_extremes_swap_for_a_negative_factor_and_name_an_overflow() -> None:
+    """One rule for a source's deviation (analysis) and a display unit (report)."""
+    from camtol.exceptions import DesignError
+    from camtol.extremes import Extreme, scaled_extremes
+
+    pair = (Extreme("q", "max", 2.0, 10.0), Extreme("q", "min", -1.0, 200.0))
+    hi, lo = scaled_extremes(pair, -3.0, "Q")
+    assert (hi.kind, hi.value, hi.theta_deg) == ("max", 3.0, 200.0)
+    assert (lo.kind, lo.value, lo.theta_deg) == ("min", -6.0, 10.0)
+    with pytest.raises(DesignError, match=r"Q is inf at θ=10°: the computation overflows"):
+        scaled_extremes(pair, 1e308, "Q")

@@ -9,7 +9,6 @@ per second at the design's cam speed) are the report layer's business
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -23,7 +22,7 @@ from camtol.design import CamDesign, ResolvedTolerance
 from camtol.engine import evaluate_engine
 from camtol.errors import ErrorAnalysis, errors_from_sensitivities
 from camtol.exceptions import GeometryError
-from camtol.extremes import Extreme, find_extremes
+from camtol.extremes import Extreme, find_extremes, overflow_error, scaled_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, analysis_grid, kinematics
@@ -408,21 +407,12 @@ def _extremes(
         return {k: pick(c, k) for k in keys}
 
     found = find_extremes(theta_rad, _Lazy(), values, step_deg=step_deg, on_nonfinite=nonfinite)
+    # A source's extremes are its sensitivity's × its deviation (finite sensitivities × a
+    # deviation may still overflow: scaled_extremes says where).
     out = {}
-    for key, (hi, lo) in found.items():
+    for key, pair in found.items():
         f = factors[key]
-        if f is None or f == 0.0:
-            out[key] = (hi, lo)
-            continue
-        if f < 0.0:
-            hi, lo = lo, hi
-        for e in (hi, lo):  # finite sensitivities × a deviation may still overflow
-            if not math.isfinite(e.value * f):
-                _not_finite(labels[key], e.value * f, math.radians(e.theta_deg))
-        out[key] = (
-            dataclasses.replace(hi, kind="max", value=hi.value * f),
-            dataclasses.replace(lo, kind="min", value=lo.value * f),
-        )
+        out[key] = pair if f is None or f == 0.0 else scaled_extremes(pair, f, labels[key])
     return out
 
 
@@ -543,13 +533,7 @@ def _checked(
 
 def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
     """Raise the DesignError of a quantity that is not finite (overflow), and where."""
-    from camtol.exceptions import DesignError
-
-    raise DesignError(
-        f"{label} is {value!r} at θ={math.degrees(theta_rad):.6g}°:"
-        " the computation overflows; a dimension or tolerance of the design is far"
-        " outside a plausible range"
-    )
+    raise overflow_error(label, value, math.degrees(theta_rad))
 
 
 #: British spelling, kept as an alias of :func:`analyze` (the one spelling of the API and

@@ -10,6 +10,7 @@ windows at once.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -18,11 +19,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 
 ExtremeKind = Literal["max", "min"]
 
-__all__ = ["Extreme", "find_extremes"]
+__all__ = ["Extreme", "find_extremes", "overflow_error", "scaled_extremes"]
 
 #: Refinement samples per grid step (step/10 apart), and per coarse sample in the second
 #: call (step/1000 apart).
@@ -65,6 +67,63 @@ class Extreme:
                 f"{a:.2f}°" if b - a < 5e-3 else f"{a:.2f}-{b:.2f}°" for a, b in self.ranges_deg
             )
         return f"{self.theta_deg:.2f}°"
+
+
+def overflow_error(label: str, value: float, theta_deg: float) -> DesignError:
+    """Return the error of a quantity that is not finite (an overflow), saying where.
+
+    Parameters
+    ----------
+    label : str
+        The quantity as tables name it.
+    value : float
+        Its value there (inf or NaN).
+    theta_deg : float
+        Cam angle. [deg]
+
+    Returns
+    -------
+    DesignError
+        To be raised by the caller.
+    """
+    return DesignError(
+        f"{label} is {value!r} at θ={theta_deg:.6g}°: the computation overflows; a"
+        " dimension or tolerance of the design is far outside a plausible range"
+    )
+
+
+def scaled_extremes(
+    pair: tuple[Extreme, Extreme], factor: float, label: str
+) -> tuple[Extreme, Extreme]:
+    """(max, min) of a quantity multiplied by ``factor`` (swapped when it is negative).
+
+    Parameters
+    ----------
+    pair : (Extreme, Extreme)
+        The quantity's max and min.
+    factor : float
+        The multiplier (a deviation, or a unit conversion).
+    label : str
+        The quantity as tables name it (for the error).
+
+    Returns
+    -------
+    (Extreme, Extreme)
+        Max and min of ``factor`` × the quantity.
+
+    Raises
+    ------
+    DesignError
+        A finite extreme becomes infinite (:func:`overflow_error`).
+    """
+    hi, lo = pair if factor >= 0.0 else pair[::-1]
+    for e in (hi, lo):
+        if math.isfinite(e.value) and not math.isfinite(e.value * factor):
+            raise overflow_error(label, e.value * factor, e.theta_deg)
+    return (
+        dataclasses.replace(hi, kind="max", value=hi.value * factor),
+        dataclasses.replace(lo, kind="min", value=lo.value * factor),
+    )
 
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:

@@ -24,8 +24,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from camtol.exceptions import DesignError
-from camtol.extremes import Extreme
+from camtol.extremes import Extreme, scaled_extremes
 from camtol.jet import FloatArray
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -240,24 +239,12 @@ def display_extremes(analysis: Analysis) -> dict[str, tuple[Extreme, Extreme]]:
         A finite internal extreme overflows in its display unit (a dimension or tolerance
         far outside a plausible range), naming the quantity and where.
     """
-    out = {}
-    for q in analysis.quantities:
-        hi, lo = analysis.extremes[q.key]
-        f = display_unit(q, analysis.design).factor
-        if f < 0.0:
-            hi, lo = lo, hi
-        for e in (hi, lo):
-            if math.isfinite(e.value) and not math.isfinite(e.value * f):
-                raise DesignError(
-                    f"{q.label} is {e.value * f!r} at θ={e.theta_deg:.6g}°:"
-                    " the computation overflows; a dimension or tolerance of the design is far"
-                    " outside a plausible range"
-                )
-        out[q.key] = (
-            dataclasses.replace(hi, kind="max", value=hi.value * f),
-            dataclasses.replace(lo, kind="min", value=lo.value * f),
+    return {
+        q.key: scaled_extremes(
+            analysis.extremes[q.key], display_unit(q, analysis.design).factor, q.label
         )
-    return out
+        for q in analysis.quantities
+    }
 
 
 @dataclass(frozen=True)
