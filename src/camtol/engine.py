@@ -66,7 +66,6 @@ class _Columns:
         self.n = n
         self._full: dict[str, FloatArray] = {}
         self._const: dict[str, float] = {}
-        self._index: NDArray[np.intp] | None = None
 
     def put_chunk(
         self,
@@ -80,10 +79,9 @@ class _Columns:
         only (dwells compressed); row ``i`` of the chunk is its row ``index[i]``, spread
         straight into the result.
         """
-        self._index = index
         if where.start != 0:
             for key, v in values.items():
-                self._put(key, v, where)
+                self._put(key, v, where, index)
             return
         varying = []
         for key, v in values.items():
@@ -101,9 +99,9 @@ class _Columns:
         block = np.empty((len(varying), self.n))
         for row, key in zip(block, varying, strict=True):
             self._full[key] = row
-            self._write(row[where], values[key])
+            _write(row[where], values[key], index)
 
-    def _put(self, key: str, v: FloatArray, where: slice) -> None:
+    def _put(self, key: str, v: FloatArray, where: slice, index: NDArray[np.intp] | None) -> None:
         out = self._full.get(key)
         if out is None:
             if key in self._const and v.size and bool(np.all(v == self._const[key])):
@@ -111,14 +109,7 @@ class _Columns:
             out = self._full[key] = np.empty(self.n)
             if key in self._const:
                 out[: where.start] = self._const.pop(key)
-        self._write(out[where], v)
-
-    def _write(self, out: FloatArray, v: FloatArray) -> None:
-        """Fill ``out`` (a chunk's rows) with ``v``, spreading compressed rows."""
-        if self._index is not None and v.shape != out.shape:
-            np.take(v, self._index, out=out, mode="clip")  # "clip": unbuffered; in range
-        else:
-            out[...] = v
+        _write(out[where], v, index)
 
     def get(self, key: str) -> FloatArray | None:
         """Return the full-length array (or broadcast constant) of a quantity, if it was put."""
@@ -135,6 +126,14 @@ class _Columns:
     def keys(self) -> list[str]:
         """Keys put so far."""
         return [*self._full, *self._const]
+
+
+def _write(out: FloatArray, v: FloatArray, index: NDArray[np.intp] | None) -> None:
+    """Fill ``out`` (a chunk's rows) with ``v``, spreading compressed rows by ``index``."""
+    if index is not None and v.shape != out.shape:
+        np.take(v, index, out=out, mode="clip")  # "clip": unbuffered; indices are in range
+    else:
+        out[...] = v
 
 
 def _full_length(x: JetLike, shape: tuple[int, ...]) -> FloatArray:
