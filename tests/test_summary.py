@@ -85,6 +85,8 @@ def test_a_pressure_angle_equal_to_its_limit_meets_it(face_deg: float) -> None:
     from camtol.analysis import analyze
     from camtol.config import design_from_mapping, dump_design
     from camtol.exceptions import PressureAngleWarning
+    from camtol.report.qa import overall_verdict
+    from camtol.report.tables import _rows
 
     data = tomllib.loads(dump_design(load_example("cw06-translating")))
     data["follower"]["face_angle_deg"] = face_deg
@@ -96,3 +98,7 @@ def test_a_pressure_angle_equal_to_its_limit_meets_it(face_deg: float) -> None:
             a = analyze(design, step_deg=1.0)
         assert a.pressure_angle_exceeds_limit is beyond
         assert any(issubclass(w.category, PressureAngleWarning) for w in seen) is beyond
+        # the report says the same: the extremes table's label and the QA verdict
+        (row,) = (r for r in _rows(a) if r[0].startswith("pressure angle"))
+        assert ("LIMIT" in row[0]) is beyond
+        assert (overall_verdict(a, None).status == "FAIL") is beyond

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.design import IT_CONVENTIONS, CamDesign
+from camtol.kinematics import beyond_pressure_angle_limit
 from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.qa import (
     PRINT_CSS,
@@ -190,7 +191,7 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     if limit is None:
         items.append(f"Pressure angle: largest |φ| = {pa:.2f}° (no design limit given).")
     else:
-        ok = pa <= limit
+        ok = not beyond_pressure_angle_limit(pa, limit)
         cls, word = ("pass", "within") if ok else ("fail", "BEYOND")
         items.append(
             f'Pressure angle: largest |φ| = {pa:.2f}° <span class="{cls}">{word}</span> the'

@@ -170,7 +170,9 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
     reasons = ["no undercut or cusp"]
     ok = True
     if limit is not None:
-        ok = pa <= limit
+        from camtol.kinematics import beyond_pressure_angle_limit
+
+        ok = not beyond_pressure_angle_limit(pa, limit)
         reasons.append(f"largest |φ| {pa:.2f}° {'within' if ok else 'BEYOND'} the limit {limit:g}°")
     reasons.append(f"output accuracy {a.accuracy.describe()}")
     status = "PASS" if ok else "FAIL"

@@ -25,6 +25,7 @@ from camtol.design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.extremes import Extreme
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
+from camtol.kinematics import beyond_pressure_angle_limit
 from camtol.report.display import analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
@@ -383,7 +384,7 @@ def _rows(a: Analysis) -> Iterable[tuple[str, str, str, str, str, str]]:
         mx, mn = shown.extremes[q.key]
         label = q.label
         if q.key == "pressure_angle" and limit is not None:
-            if max(abs(mx.value), abs(mn.value)) > limit:
+            if beyond_pressure_angle_limit(max(abs(mx.value), abs(mn.value)), limit):
                 label += f" > {limit:g}° LIMIT"
         yield _row_cells(label, q.unit, mx, mn)
 
