@@ -290,3 +290,65 @@ def test_scaled_extremes_swap_for_a_negative_factor_and_name_an_overflow() -> No
     assert (lo.kind, lo.value, lo.theta_deg) == ("min", -6.0, 10.0)
     with pytest.raises(DesignError, match=r"Q is inf at θ=10°: the computation overflows"):
         scaled_extremes(pair, 1e308, "Q")
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_sensitivities_without_derivatives_are_the_jets_values(name: str) -> None:
+    # A design with no tolerances needs the radial factor alone: plain values, a quarter
+    # of the work. Same formulas, so the same values to rounding; the derivatives are
+    # NaN (not computed), never a zero that would pass for a constant sensitivity.
+    design = load_example(name).cams()[0].design
+    theta, left = analysis_grid(0.5, design.program.boundaries_rad)
+    _, jets = evaluate_engine(design, theta, left, chunk=300)
+    _, plain = evaluate_engine(design, theta, left, chunk=300, derivatives=False)
+    assert plain.keys() == jets.keys()
+    for key, j in jets.items():
+        np.testing.assert_allclose(plain[key].v, j.v, rtol=1e-13, atol=1e-15, err_msg=key)
+        assert np.isnan(plain[key].d1).all() and np.isnan(plain[key].d2).all()
+
+
+def test_only_the_sources_asked_for_are_returned() -> None:
+    design = load_example("roller-oscillating")
+    theta, left = analysis_grid(1.0, design.program.boundaries_rad)
+    _, every = evaluate_engine(design, theta, left)
+    assert set(every) == {"r", "n", "rf", "l", "f"}
+    _, some = evaluate_engine(design, theta, left, sources={"r", "l", "phase"})
+    assert set(some) == {"r", "l"}  # "phase" is not toleranced: ignored
+    for key in some:
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_array_equal(getattr(some[key], part), getattr(every[key], part))
+
+
+def test_a_design_without_tolerances_reports_its_radial_factor() -> None:
+    # cw11-experiment has no tolerances: analyse takes the values-only path. Its radial
+    # factor must be the same as with a toleranced source (which takes the jets).
+    from camtol.config import design_from_mapping, example_text
+    from camtol.examples import parse_toml
+
+    bare = load_example("cw11-experiment")
+    assert not bare.tolerances
+    data = parse_toml(example_text("cw11-experiment"), "cw11-experiment")
+    data["tolerances"] = {"l_um": 5.0}
+    toleranced = design_from_mapping(data)
+    a, b = analyse(bare, step_deg=1.0), analyse(toleranced, step_deg=1.0)
+    np.testing.assert_allclose(
+        a.curves["radial_factor"], b.curves["radial_factor"], rtol=1e-13, atol=0.0
+    )
+    assert a.extremes["radial_factor"][0].value == pytest.approx(
+        b.extremes["radial_factor"][0].value, rel=1e-12
+    )
+    assert float(np.max(a.curves["dS_worst"])) == 0.0
+
+
+def test_design_level_sources_without_derivatives() -> None:
+    from camtol.config import design_from_mapping, example_text
+    from camtol.examples import parse_toml
+
+    data = parse_toml(example_text("roller-oscillating"), "roller-oscillating")
+    data["tolerances"]["phase_deg"] = 0.01
+    design = design_from_mapping(data)
+    theta, left = analysis_grid(1.0, design.program.boundaries_rad)
+    kin, jets = evaluate_engine(design, theta, left)
+    _, plain = evaluate_engine(design, theta, left, derivatives=False)
+    np.testing.assert_array_equal(plain["phase"].v, -kin.velocity)  # ΔS/Δθ0 = −V
+    np.testing.assert_array_equal(plain["phase"].v, jets["phase"].v)

@@ -9,6 +9,7 @@ per second at the design's cam speed) are the report layer's business
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -449,7 +450,16 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     cams = design.cams()
     cam = cams[0].design
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kin, sens = evaluate_engine(cam, theta, left, check=False)
+    # Only what the analysis reports: the toleranced sources with their derivatives (ΔS,
+    # ΔV, ΔA), and the radial factor ∂S/∂r, a value (no tolerances: values alone).
+    engine = functools.partial(
+        evaluate_engine,
+        cam,
+        check=False,
+        sources={"r", *(t.key for t in cam.tolerances)},
+        derivatives=bool(cam.tolerances),
+    )
+    kin, sens = engine(theta, left)
     motion = MotionState(kin.lift, kin.velocity, kin.acceleration, kin.jerk)  # every cam's
     others = tuple((c.label, _checked(c.label, c.design, theta, left, motion)) for c in cams[1:])
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
@@ -460,7 +470,7 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         quantities = _quantities(cam, tolerances)
 
         def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
-            k, s = evaluate_engine(cam, t, check=False)
+            k, s = engine(t)
             e = errors_from_sensitivities(t, k.left_limit, s, tols)
             return Curves(cam, k, e, s["r"].v)
 

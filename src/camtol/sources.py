@@ -31,7 +31,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 from numpy.typing import ArrayLike
 
-from camtol.jet import FloatArray, Jet, JetLike
+from camtol.jet import FloatArray, JetLike
 from camtol.mechanisms.base import ErrorSource, Mechanism
 from camtol.motion import MotionProgram
 
@@ -61,22 +61,25 @@ class DesignSource(ABC):
         return self.source.key
 
     @abstractmethod
-    def sensitivity(self, mechanism: Mechanism, theta: Jet, lift: Jet, velocity: Jet) -> JetLike:
+    def sensitivity(
+        self, mechanism: Mechanism, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> JetLike:
         """Closed-form ΔS per unit deviation, as a jet over θ (THEORY §3).
 
         Parameters
         ----------
         mechanism : Mechanism
             The follower (for sources whose effect depends on it).
-        theta : Jet
-            ``Jet.variable(θ)``. [rad]
-        lift, velocity : Jet
-            Jets (S, V, A) and (V, A, J) of the motion. [output unit per rad^k]
+        theta : JetLike
+            ``Jet.variable(θ)``, or θ itself for values without derivatives. [rad]
+        lift, velocity : JetLike
+            Jets (S, V, A) and (V, A, J) of the motion, or S and V. [output unit per rad^k]
 
         Returns
         -------
         JetLike
-            ΔS/Δp with its first two θ-derivatives. [output unit per mm or per rad]
+            ΔS/Δp with its first two θ-derivatives (given jets), else its values.
+            [output unit per mm or per rad]
         """
 
     @abstractmethod
@@ -138,7 +141,9 @@ class AngularPhase(DesignSource):
 
     source = ErrorSource("phase", "angular phase error Δθ0 of the cam on its shaft", "rad")
 
-    def sensitivity(self, mechanism: Mechanism, theta: Jet, lift: Jet, velocity: Jet) -> JetLike:
+    def sensitivity(
+        self, mechanism: Mechanism, theta: JetLike, lift: JetLike, velocity: JetLike
+    ) -> JetLike:
         """ΔS/Δθ0 = −V, with derivatives −A and −J. [output unit per rad]"""
         return -velocity
 
