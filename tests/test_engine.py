@@ -105,6 +105,13 @@ def test_curves_are_the_internal_results() -> None:
         a.curves["nope"]
 
 
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_a_curves_deviation_is_known_without_computing_it(name: str) -> None:
+    c = analyse(load_example(name), step_deg=2.0).curves
+    for key in c:
+        assert c._deviation(key) == c._base(key)[1], key
+
+
 def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
     # A smooth maximum, a kink minimum |sin| and a one-sided maximum at a jump, from a
     # 1° grid: located to 1e-3° (step/1000) or better.

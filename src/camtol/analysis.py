@@ -326,6 +326,14 @@ class Curves(Mapping[str, FloatArray]):
         f = factor * deviation if deviation is not None else factor
         return base if f == 1.0 else np.asarray(base * f)
 
+    def _deviation(self, key: str) -> float | None:
+        """Return the source's deviation of a source's curve, else None (nothing computed)."""
+        if key not in self._keys:
+            raise KeyError(key)
+        name = key.split("_", 1)[1] if key[:3] in ("dS_", "dV_", "dA_") else ""
+        src = self._err.sources.get(name) if name not in ("worst", "rms") else None
+        return None if src is None else src.deviation
+
     def _base(self, key: str) -> tuple[FloatArray, float | None]:
         """Return (stored array, the source's deviation or None); the curve is their product."""
         if key not in self._keys:
@@ -385,7 +393,7 @@ def _extremes(
     """
     keys = [q.key for q in quantities]
     labels = {q.key: q.label for q in quantities}
-    factors = {k: curves._base(k)[1] for k in keys}  # a source's deviation, else None
+    factors = {k: curves._deviation(k) for k in keys}  # a source's deviation, else None
 
     def pick(c: Curves, key: str) -> FloatArray:
         return c[key] if factors[key] == 0.0 else c._base(key)[0]
