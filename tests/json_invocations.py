@@ -37,6 +37,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["analyze", "-e", "roller-oscillating", "--step", "0.5", "--json"],
         ["analyze", "-e", "cw11-conjugate", "--step", "0.5", "--json"],
         ["analyze", "-e", "popa-eccentric", "--step", "0.5", "--json"],
+        ["analyze", "-e", "cw11-experiment", "--step", "0.5", "--json"],  # no tolerances
     ],
     "conjugate": [
         ["conjugate", "-e", "cw11-conjugate", "--step", "0.5", "--json"],

@@ -359,3 +359,18 @@ def test_design_level_sources_without_derivatives() -> None:
     _, plain = evaluate_engine(design, theta, left, derivatives=False)
     np.testing.assert_array_equal(plain["phase"].v, -kin.velocity)  # ΔS/Δθ0 = −V
     np.testing.assert_array_equal(plain["phase"].v, jets["phase"].v)
+
+
+def test_a_design_without_tolerances_has_no_accuracy_grade() -> None:
+    # ΔS is zero by construction without tolerances: no grade ("finer than IT01" was
+    # printed before), and every report says so in the same words.
+    from camtol.report.display import ACCURACY_NOT_ASSESSED, accuracy_words
+    from camtol.report.qa import overall_verdict
+
+    bare = analyse(load_example("cw11-experiment"), step_deg=1.0)
+    assert bare.accuracy is None
+    assert accuracy_words(bare.accuracy) == ACCURACY_NOT_ASSESSED
+    assert f"output accuracy {ACCURACY_NOT_ASSESSED}" in overall_verdict(bare, None).reasons
+    toleranced = analyse(load_example("cw11-conjugate"), step_deg=1.0)
+    assert toleranced.accuracy is not None
+    assert accuracy_words(toleranced.accuracy) == toleranced.accuracy.describe()

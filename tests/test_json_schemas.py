@@ -109,3 +109,31 @@ def test_analyze_keys_are_snake_case_with_numbers(subs: dict[str, str]) -> None:
 def test_schemas_are_package_data() -> None:
     text = (Path(__file__).resolve().parent.parent / "pyproject.toml").read_text()
     assert "data/schemas/*.schema.json" in text
+
+
+@pytest.mark.parametrize("command", ["analyze", "allocate", "report"])
+def test_accuracy_beyond_the_grade_table_and_not_assessed_match_the_schema(command: str) -> None:
+    # A worst case finer than IT01 has no lower grade, one coarser than IT18 no upper
+    # grade, and a design without tolerances no grade at all: each is valid output.
+    from camtol.iso286 import GradeBracket
+    from camtol.report.tables import accuracy_json
+
+    schema = json.loads((SCHEMAS / f"{command}.schema.json").read_text(encoding="utf-8"))
+    validator = jsonschema.Draft202012Validator(schema["properties"]["accuracy"])
+    cases = [
+        GradeBracket(None, "IT01", None, 0.6),
+        GradeBracket("IT18", None, 3900.0, None),
+        GradeBracket("IT7", "IT8", 21.0, 33.0),
+        None,
+    ]
+    for b in cases:
+        data = accuracy_json(b)
+        errors = [e.message for e in validator.iter_errors(data)]
+        assert not errors, (b, errors)
+    assert accuracy_json(None) == {
+        "lower_grade": None,
+        "lower_um": None,
+        "upper_grade": None,
+        "upper_um": None,
+        "text": "not assessed: the design gives no tolerances",
+    }

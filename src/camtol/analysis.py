@@ -99,8 +99,9 @@ class Analysis:
         Maximum radial dimension of the profile. [mm]
     travel : float
         Total follower travel. [mm, or rad for an oscillating follower: :attr:`travel_unit`]
-    accuracy : iso286.GradeBracket
-        IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6).
+    accuracy : iso286.GradeBracket or None
+        IT grades of the travel that bracket max |ΔS_worst| (THEORY §3.6); None when the
+        design tolerances nothing (ΔS is then zero by construction: not an accuracy).
     notes : tuple of str
         Further caveats in words (none today; the report adds those of
         :attr:`lift_table`, see :func:`camtol.report.display.analysis_notes`).
@@ -127,7 +128,7 @@ class Analysis:
     extremes: dict[str, tuple[Extreme, Extreme]]
     max_radius_mm: float
     travel: float
-    accuracy: iso286.GradeBracket
+    accuracy: iso286.GradeBracket | None
     notes: tuple[str, ...] = ()
     other_cams: tuple[tuple[str, Kinematics], ...] = ()
 
@@ -496,7 +497,10 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     travel = design.program.total_travel  # [mm or rad]
     worst = extremes["dS_worst"][0].value  # [mm or rad]
     # ISO 286 tabulates µm against mm, and angles in degrees (THEORY §3.6).
-    if design.mechanism.output == "translating":
+    accuracy: iso286.GradeBracket | None
+    if not tolerances:  # nothing toleranced: a zero ΔS says nothing of the output
+        accuracy = None
+    elif design.mechanism.output == "translating":
         accuracy = iso286.grade_of_deviation(worst * 1e3, travel)
     else:
         accuracy = iso286.grade_of_angle_deviation(worst * _DEG_PER_RAD, math.degrees(travel))

@@ -20,6 +20,7 @@ from camtol.cli import main
 from camtol.config import example_names, load_example
 from camtol.design import IT_CONVENTIONS
 from camtol.radius_table import radius_table
+from camtol.report.display import accuracy_words
 from camtol.report.export import ExportError
 from camtol.report.html import CONVENTIONS, report_html, write_report
 from camtol.study import study
@@ -50,7 +51,7 @@ def test_report_content(name: str) -> None:
     assert f"camtol {__version__}" in page
     for text in (*IT_CONVENTIONS, *CONVENTIONS):
         assert html.escape(text) in page
-    assert html.escape(a.accuracy.describe()) in page
+    assert html.escape(accuracy_words(a.accuracy)) in page  # not assessed: no tolerances
     for q in a.quantities:  # the extremes table has a row per quantity
         assert f"<td>{html.escape(q.label)}</td>" in page
     for _param, value in a.design.mechanism.summary():

@@ -30,12 +30,15 @@ from camtol.jet import FloatArray
 if TYPE_CHECKING:  # pragma: no cover
     from camtol.analysis import Analysis, Quantity
     from camtol.design import CamDesign
+    from camtol.iso286 import GradeBracket
 
 __all__ = [
+    "ACCURACY_NOT_ASSESSED",
     "AnalysisDisplay",
     "DisplayCurves",
     "DisplayUnit",
     "DisplayUnits",
+    "accuracy_words",
     "analysis_notes",
     "display_analysis",
     "display_curves",
@@ -46,6 +49,26 @@ __all__ = [
 
 #: Degrees per radian. [deg/rad]
 _DEG = 180.0 / math.pi
+
+#: What every report says of the output accuracy of a design that tolerances nothing
+#: (:attr:`camtol.analysis.Analysis.accuracy` is None: its ΔS is zero by construction).
+ACCURACY_NOT_ASSESSED = "not assessed: the design gives no tolerances"
+
+
+def accuracy_words(accuracy: GradeBracket | None) -> str:
+    """Return the output accuracy in words, e.g. ``between IT7 (21 µm) and IT8 (33 µm)``.
+
+    Parameters
+    ----------
+    accuracy : iso286.GradeBracket or None
+        :attr:`camtol.analysis.Analysis.accuracy` (None: nothing toleranced).
+
+    Returns
+    -------
+    str
+        The bracket's description, or :data:`ACCURACY_NOT_ASSESSED`.
+    """
+    return ACCURACY_NOT_ASSESSED if accuracy is None else accuracy.describe()
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ import numpy as np
 
 from camtol.design import IT_CONVENTIONS, CamDesign
 from camtol.kinematics import beyond_pressure_angle_limit
-from camtol.report.display import analysis_notes, display_analysis
+from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.qa import (
     PRINT_CSS,
     TRACEABILITY_FIELDS,
@@ -170,10 +170,15 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     worst = shown.extremes["dS_worst"][0]
     rho = shown.extremes["curvature_radius"][1]
     pa = float(np.degrees(np.max(np.abs(k.pressure_angle_rad))))
-    items = [
+    accuracy = (
         f"Output accuracy: max |ΔS worst case| = {_quantity(worst.value, shown.error_unit)}"
         f" at θ = {worst.where} over a travel of {_quantity(shown.travel, shown.travel_unit)}:"
-        f" <strong>{_e(a.accuracy.describe())}</strong> (THEORY §3.6).",
+        f" <strong>{_e(accuracy_words(a.accuracy))}</strong> (THEORY §3.6)."
+        if a.accuracy is not None
+        else f"Output accuracy: <strong>{_e(accuracy_words(None))}</strong> (THEORY §3.6)."
+    )
+    items = [
+        accuracy,
         f"Profile: smallest radius of curvature {_fmt(rho.value)} mm at θ = {_e(rho.where)};"
         ' <span class="pass">no undercut or cusp</span> (checked over the whole revolution).',
     ]

@@ -26,7 +26,12 @@ import numpy as np
 
 from camtol.jet import FloatArray
 from camtol.report._figstyle import _legend_outside, _stamp
-from camtol.report.display import DisplayUnits, display_curves, display_extremes
+from camtol.report.display import (
+    DisplayUnits,
+    accuracy_words,
+    display_curves,
+    display_extremes,
+)
 from camtol.report.plot_style import COLOURS as _COLOURS
 from camtol.report.plot_style import axes, pretty_unit
 from camtol.report.plot_style import axes as _axes
@@ -505,6 +510,6 @@ def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Fi
     fig.suptitle(
         f"{analysis.design.name}: max worst-case ΔS {worst.value:.4g}"
         f" {pretty_unit(DisplayUnits.of(analysis.design).lift)} at θ = {worst.theta_deg:.2f}°,"
-        f" {analysis.accuracy.describe()} (camtol {__version__})"
+        f" {accuracy_words(analysis.accuracy)} (camtol {__version__})"
     )
     return fig

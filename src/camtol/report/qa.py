@@ -174,7 +174,9 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
 
         ok = not beyond_pressure_angle_limit(pa, limit)
         reasons.append(f"largest |φ| {pa:.2f}° {'within' if ok else 'BEYOND'} the limit {limit:g}°")
-    reasons.append(f"output accuracy {a.accuracy.describe()}")
+    from camtol.report.display import accuracy_words
+
+    reasons.append(f"output accuracy {accuracy_words(a.accuracy)}")
     status = "PASS" if ok else "FAIL"
     return OverallVerdict(
         status,

@@ -26,7 +26,7 @@ from camtol.extremes import Extreme
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
 from camtol.kinematics import beyond_pressure_angle_limit
-from camtol.report.display import analysis_notes, display_analysis
+from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
@@ -181,20 +181,30 @@ def mechanism_parameters(mech: Any) -> dict[str, Any]:
     return out
 
 
-def accuracy_json(b: GradeBracket) -> dict[str, Any]:
+def accuracy_json(b: GradeBracket | None) -> dict[str, Any]:
     """Structured accuracy grade: the bracketing IT grades and their values.
 
     Parameters
     ----------
-    b : iso286.GradeBracket
-        The grades bracketing a deviation.
+    b : iso286.GradeBracket or None
+        The grades bracketing a deviation; None for a design that tolerances nothing.
 
     Returns
     -------
     dict
-        ``lower_grade``/``upper_grade`` (e.g. ``"IT7"`` or null), their values in µm
-        (``lower_um``/``upper_um``, thousandths of a degree for an angle) and ``text``.
+        ``lower_grade``/``upper_grade`` (e.g. ``"IT7"``, or null beyond the table), their
+        values in µm (``lower_um``/``upper_um``, thousandths of a degree for an angle) and
+        ``text``; without tolerances all four null and ``text``
+        :data:`~camtol.report.display.ACCURACY_NOT_ASSESSED`.
     """
+    if b is None:
+        return {
+            "lower_grade": None,
+            "lower_um": None,
+            "upper_grade": None,
+            "upper_um": None,
+            "text": accuracy_words(None),
+        }
     return {
         "lower_grade": b.lower,
         "lower_um": b.lower_um,
@@ -518,12 +528,15 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
     for cells in _rows(a):
         table.add_row(*cells)
     con.print(table, highlight=False)
-    con.print(
-        f"Output accuracy: max |ΔS worst| = {_fmt(shown.extremes['dS_worst'][0].value)}"
-        f" {_pretty_unit(shown.error_unit)} over a travel of {shown.travel:g}"
-        f" {_pretty_unit(shown.travel_unit)}: {a.accuracy.describe()}",
-        highlight=False,
-    )
+    if a.accuracy is None:
+        con.print(f"Output accuracy: {accuracy_words(None)}", highlight=False, markup=False)
+    else:
+        con.print(
+            f"Output accuracy: max |ΔS worst| = {_fmt(shown.extremes['dS_worst'][0].value)}"
+            f" {_pretty_unit(shown.error_unit)} over a travel of {shown.travel:g}"
+            f" {_pretty_unit(shown.travel_unit)}: {accuracy_words(a.accuracy)}",
+            highlight=False,
+        )
     if a.pressure_angle_exceeds_limit:
         con.print(
             f"PRESSURE ANGLE EXCEEDS THE {d.pressure_angle_limit_deg:g}° DESIGN LIMIT"
