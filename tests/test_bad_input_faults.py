@@ -57,6 +57,10 @@ def command_args(cmd: str, design: Path, tmp_path: Path) -> list[str]:
         return [cmd, str(design), "-o", str(tmp_path / "out.csv")]
     if cmd == "report":
         return [cmd, str(design), "-o", str(tmp_path / "out.html")]
+    if cmd == "montecarlo":
+        return [cmd, str(design), "--samples", "200"]
+    if cmd == "allocate":
+        return [cmd, str(design), "--spec-deg", "0.05"]
     return [cmd, str(design)]
 
 
@@ -136,7 +140,9 @@ def _conjugate(**follower: float) -> str:
     return raw
 
 
-@pytest.mark.parametrize("cmd", ["analyze", "profile", "report", "verify", "conjugate"])
+@pytest.mark.parametrize(
+    "cmd", ["analyze", "profile", "report", "verify", "conjugate", "montecarlo", "allocate"]
+)
 def test_cam_b_that_jams_is_rejected_by_every_command(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, cmd: str
 ) -> None:

@@ -16,6 +16,7 @@ from camtol.tolerancing import (
     ProfileProcess,
     SourceDistribution,
     StatisticalModel,
+    allocate,
     monte_carlo,
 )
 from camtol.tolerancing.montecarlo import prepare, sample_matrix
@@ -226,3 +227,26 @@ def test_band_yield():
     want = np.count_nonzero(np.all(np.abs(d) <= 0.005, axis=1)) / 1000
     assert res.yield_estimate is not None
     assert res.yield_estimate.value == pytest.approx(want, abs=2e-3)  # float32 ΔS at edges
+
+
+def test_a_conjugate_pair_is_sampled_through_cam_a() -> None:
+    # Its error sources are cam A's contact's, the output error analyze computes; the
+    # command failed with "a conjugate pair is two cams" before.
+    from camtol.analysis import analyse
+
+    pair = load_example("cw11-conjugate")
+    cam_a = pair.cams()[0].design
+    study = prepare(pair, step_deg=1.0)
+    assert study.design == cam_a and study.unit == "rad"
+    a = monte_carlo(pair, samples=2000, seed=3, step_deg=1.0).statistics["lift"]
+    b = monte_carlo(cam_a, samples=2000, seed=3, step_deg=1.0).statistics["lift"]
+    np.testing.assert_array_equal(a.mean, b.mean)
+    np.testing.assert_array_equal(a.std, b.std)
+    # No sample exceeds analyze's worst case of the same sources (linear mode).
+    worst = analyse(pair, step_deg=1.0).extremes["dS_worst"][0].value
+    assert 0.0 < a.max_abs.q99865 <= worst
+    chosen = allocate(
+        pair, spec=math.radians(0.05), step_deg=1.0, samples=2000, verify_samples=2000
+    )
+    assert set(chosen.grades) == {t.key for t in pair.tolerances}
+    assert chosen.unit == "rad" and chosen.achieved <= math.radians(0.05)

@@ -109,10 +109,20 @@ def prepare(
     ------
     DesignError
         No toleranced source and no process, or an invalid model.
+    GeometryError, UndercutError
+        A cam of the design cannot produce its motion.
+
+    Notes
+    -----
+    A conjugate pair is sampled through cam A, whose contact carries the pair's error
+    sources: the output error ``analyze`` computes (THEORY §4); both cams are checked.
     """
     from camtol.analysis import max_radius_mm
     from camtol.kinematics import kinematics
+    from camtol.validity import check_design_geometry
 
+    check_design_geometry(design)  # every cam: a pair whose cam B cannot work fails
+    design = design.cams()[0].design  # cam A of a pair (the design itself otherwise)
     model = statistical_model(design) if model is None else model
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     kinematics(design, theta, left_limit=left, check=True)
