@@ -51,6 +51,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "verify": [
         ["verify", "-e", "cw06-translating", "--step", "0.5", "--json"],
         ["verify", "-e", "cw11-conjugate", "--step", "0.5", "--json", "--no-polyline"],
+        ["verify", "-e", "cw11-conjugate", "--step", "1", "--json"],  # polyline_b
     ],
     "size": [
         ["size", "-e", "roller-translating", "--json"],
@@ -59,6 +60,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "precision": [
         ["precision", "-e", "roller-translating", "--decimals", "4", "--json"],
         ["precision", "-e", "popa-eccentric", "--accel-budget", "1", "--json"],
+        ["precision", "{turning}", "--decimals", "4", "--json"],  # quantum_deg, deg_per_s
     ],
     "cut": [["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"]],
     "derive": [["derive", "{tmp}/lift.csv", "--json"]],
@@ -104,7 +106,14 @@ def prepare(tmp: str) -> dict[str, str]:
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
     band = Path(tmp) / "band.csv"
     band.write_text("theta_deg,lower_um,upper_um\n0,-25,40\n180,-30,30\n")
-    subs = {"tmp": tmp, "scan": str(scan), "band": str(band)}
+    from camtol.config import example_text
+
+    turning = Path(tmp) / "turning.toml"  # an oscillating follower with a cam speed
+    raw = example_text("roller-oscillating").replace(
+        "[operation]\n", "[operation]\nspeed_rpm = 300\n"
+    )
+    turning.write_text(raw)
+    subs = {"tmp": tmp, "scan": str(scan), "band": str(band), "turning": str(turning)}
     store = Path(tmp) / "records.db"
     subs["store"] = str(store)
     try:
