@@ -62,7 +62,10 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["precision", "-e", "popa-eccentric", "--accel-budget", "1", "--json"],
         ["precision", "{turning}", "--decimals", "4", "--json"],  # quantum_deg, deg_per_s
     ],
-    "cut": [["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"]],
+    "cut": [
+        ["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"],
+        ["cut", "-e", "cw11-conjugate", "--cut-step", "1", "--json"],  # cam "A", degrees
+    ],
     "derive": [["derive", "{tmp}/lift.csv", "--json"]],
     "inspect": [
         [

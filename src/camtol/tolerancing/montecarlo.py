@@ -122,6 +122,7 @@ def prepare(
     from camtol.validity import check_design_geometry
 
     check_design_geometry(design)  # every cam: a pair whose cam B cannot work fails
+    name = design.name
     design = design.cams()[0].design  # cam A of a pair (the design itself otherwise)
     model = statistical_model(design) if model is None else model
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
@@ -130,7 +131,7 @@ def prepare(
     plan = make_plan(design, model, tolerances)
     if plan.columns == 0:
         raise DesignError(
-            f"design {design.name!r} has no [tolerances] and no profile process: nothing to sample"
+            f"design {name!r} has no [tolerances] and no profile process: nothing to sample"
         )
     sens = sensitivity_matrices(design, plan, theta, left)
     return Study(design, theta, left, plan, sens, design.mechanism.output_unit)
