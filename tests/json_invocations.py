@@ -66,7 +66,10 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"],
         ["cut", "-e", "cw11-conjugate", "--cut-step", "1", "--json"],  # cam "A", degrees
     ],
-    "derive": [["derive", "{tmp}/lift.csv", "--json"]],
+    "derive": [
+        ["derive", "{tmp}/lift.csv", "--json"],
+        ["derive", "{tmp}/lift_deg.csv", "--json"],  # an oscillating follower's lift
+    ],
     "inspect": [
         [
             "inspect",
@@ -104,6 +107,7 @@ def prepare(tmp: str) -> dict[str, str]:
     lift = Path(tmp) / "lift.csv"
     rows = "\n".join(f"{t:g},{5 * (1 - math.cos(math.radians(t))):.6f}" for t in range(0, 360))
     lift.write_text("theta_deg,lift_mm\n" + rows + "\n")
+    (Path(tmp) / "lift_deg.csv").write_text("theta_deg,lift_deg\n" + rows + "\n")
     scan = Path(tmp) / "b.csv"
     args = ["simulate", "cmm", "-e", "cw11-experiment", "-o", str(scan), "--cam", "B"]
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
