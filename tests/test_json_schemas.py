@@ -137,3 +137,33 @@ def test_accuracy_beyond_the_grade_table_and_not_assessed_match_the_schema(comma
         "upper_um": None,
         "text": "not assessed: the design gives no tolerances",
     }
+
+
+_EVERY_EXAMPLE = {  # cheap commands whose keys depend on the follower: every example
+    "analyze": ["--step", "1"],
+    "verify": ["--step", "2"],
+    "size": [],
+    "precision": ["--decimals", "4"],
+    "cut": ["--cut-step", "2"],
+}
+
+
+@pytest.mark.parametrize("command", sorted(_EVERY_EXAMPLE))
+def test_every_example_matches_the_schema(command: str) -> None:
+    # Keys carry units (um or deg) and a conjugate pair adds cam B's: the hand-picked
+    # invocations missed four such outputs once; every built-in example covers them.
+    from camtol.config import example_names
+
+    schema = json.loads((SCHEMAS / f"{command}.schema.json").read_text(encoding="utf-8"))
+    validator = jsonschema.Draft202012Validator(schema)
+    for name in example_names():
+        argv = [command, "-e", name, *_EVERY_EXAMPLE[command], "--json"]
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+            code = main(argv)
+        assert code in (0, 1), argv
+        errors = [
+            f"{list(e.absolute_path)}: {e.message}"
+            for e in validator.iter_errors(json.loads(out.getvalue()))
+        ]
+        assert not errors, f"{' '.join(argv)}:\n" + "\n".join(errors[:5])
