@@ -31,7 +31,7 @@ from camtol import jet
 from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.kinematics import Kinematics, check_geometry, check_velocity_ratio
-from camtol.mechanisms.base import Mechanism
+from camtol.mechanisms.base import ContactGeometry, Mechanism
 from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
 
@@ -202,19 +202,35 @@ def _motion_quantities(
             keep = np.flatnonzero(fresh)
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
             t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
-    g = mech.contact(0.0 if mech.motion_only else t, s, v)
-    geometry: dict[str, JetLike] = {
-        key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and g.q is v)
-    }
-    geometry.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-    geometry["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+    geometry = _geometry_values(
+        mech, mech.contact(0.0 if mech.motion_only else t, s, v), (t, s, v, acc)
+    )
     out: dict[str, JetLike] = {}
     if sources and derivatives:
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     elif sources:
         out = dict(mech.error_sensitivities(t, s, v))
-    geometry["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     return geometry, out, index
+
+
+def _geometry_values(
+    mech: Mechanism,
+    g: ContactGeometry,
+    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+) -> dict[str, JetLike]:
+    """Return a chunk's geometry columns from its contact geometry and (θ, S, V, A).
+
+    ``q`` is left out when it is V itself (the kinematics then share the velocity array);
+    the radial dimension |O2A| and the radius of curvature ρ are added.
+    """
+    t, s, v, acc = state
+    values: dict[str, JetLike] = {
+        key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and g.q is v)
+    }
+    values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
+    values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+    values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
+    return values
 
 
 def _turn(
@@ -338,13 +354,7 @@ def evaluate_engine(
         if shared:
             g = mech.contact(th, lift, vel)
             chunk_sens = dict(mech.sensitivities(g, th))
-            q_is_velocity = g.q is v
-            values = {
-                key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and q_is_velocity)
-            }
-            values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-            values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
-            values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+            values = _geometry_values(mech, g, (t, s, v, acc))
         else:
             values, chunk_sens, index = _motion_quantities(
                 mech,
@@ -353,7 +363,6 @@ def evaluate_engine(
                 sources=sensitivities,
                 derivatives=derivatives,
             )
-            q_is_velocity = "q" not in values
             if mech.motion_only:
                 _turn(values, t, index)
         for key in design_keys:  # design-level sources the design tolerances
@@ -368,6 +377,7 @@ def evaluate_engine(
             else:
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
+        q_is_velocity = "q" not in values
         cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at, index)
         del chunk_sens, values
     c = cols
