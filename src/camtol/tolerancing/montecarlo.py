@@ -118,15 +118,14 @@ def prepare(
     sources: the output error ``analyze`` computes (THEORY §4); both cams are checked.
     """
     from camtol.analysis import max_radius_mm
-    from camtol.kinematics import kinematics
     from camtol.validity import check_design_geometry
 
-    check_design_geometry(design)  # every cam: a pair whose cam B cannot work fails
+    # Every cam, whatever the grid (as analyze): a pair whose cam B cannot work fails.
+    check_design_geometry(design)
     name = design.name
     design = design.cams()[0].design  # cam A of a pair (the design itself otherwise)
     model = statistical_model(design) if model is None else model
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    kinematics(design, theta, left_limit=left, check=True)
     tolerances = design.resolve_tolerances(max_radius_mm(design))
     plan = make_plan(design, model, tolerances)
     if plan.columns == 0:
