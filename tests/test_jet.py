@@ -52,3 +52,37 @@ def test_quotient_and_root_rules_match_the_chain_rule() -> None:
         for part in ("v", "d1", "d2"):
             # different operation orders in double precision: a few ulps
             np.testing.assert_allclose(getattr(got, part), getattr(want, part), rtol=1e-13)
+
+
+def test_hypot_of_arrays_is_within_two_ulp_of_the_exact_norm() -> None:
+    """The in-place √(x² + y²) (not ``np.hypot``) against the norm in exact arithmetic."""
+    from fractions import Fraction
+    from math import isqrt
+
+    rng = np.random.default_rng(11)
+    x = rng.uniform(-500.0, 500.0, 400) * 10.0 ** rng.integers(-6, 4, 400)
+    y = rng.uniform(-500.0, 500.0, 400) * 10.0 ** rng.integers(-6, 4, 400)
+    got = jet.hypot(x, y)
+    scale = 2**200  # √ of an exact rational, to far more digits than a double holds
+    exact = np.array(
+        [
+            isqrt(int((Fraction(a) ** 2 + Fraction(b) ** 2) * scale**2)) / scale
+            for a, b in zip(x.tolist(), y.tolist(), strict=True)
+        ]
+    )
+    assert np.all(np.abs(got - exact) <= 2 * np.spacing(exact))
+
+
+@pytest.mark.parametrize(
+    ("x", "y", "shape"),
+    [
+        (3.0, 4.0, ()),
+        (np.full(3, 3.0), 4.0, (3,)),
+        (3.0, np.full(3, 4.0), (3,)),
+        (np.full((2, 1), 3.0), np.full(3, 4.0), (2, 3)),
+    ],
+)
+def test_hypot_broadcasts_scalars_and_arrays(x: object, y: object, shape: tuple[int, ...]) -> None:
+    out = jet.hypot(x, y)  # type: ignore[arg-type]
+    assert np.shape(out) == shape
+    np.testing.assert_array_equal(out, np.full(shape, 5.0))

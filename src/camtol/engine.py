@@ -228,7 +228,7 @@ def _geometry_values(
         key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and g.q is v)
     }
     values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-    values["radius"] = np.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+    values["radius"] = jet.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
     values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     return values
 

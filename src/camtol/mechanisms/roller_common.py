@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol.jet import FloatArray, Jet, JetLike, Real
+from camtol.jet import FloatArray, Jet, JetLike, Real, hypot
 from camtol.mechanisms.base import Mechanism
 from camtol.mechanisms.elements import Outline, point
 
@@ -76,7 +76,7 @@ def pitch_curvature_radius(cx: JetLike, cy: JetLike) -> FloatArray:
     y, y1, y2 = _parts(cy)
     ux, uy = x1 - y, y1 + x
     wx, wy = x2 - 2.0 * y1 - x, y2 + 2.0 * x1 - y
-    speed = np.hypot(ux, uy)
+    speed = hypot(ux, uy)
     cross = ux * wy - uy * wx
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.asarray(speed**3 / cross)
