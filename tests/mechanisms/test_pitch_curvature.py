@@ -55,3 +55,22 @@ def test_translating_roller_closed_form() -> None:
     expected = ((v - e) ** 2 + p**2) ** 1.5 / ((v - e) * (2 * v - e) - p * (a - p))
     rho = mech.curvature_radius(theta, m.lift, v, a) + mech.roller_radius_mm  # type: ignore[attr-defined]
     np.testing.assert_allclose(rho, expected, rtol=1e-13)
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_oscillating_roller_closed_form_equals_the_general_form(side: int) -> None:
+    """ρ of the arm's roller from m = γ' + side alone equals pitch_curvature_radius on c."""
+    from camtol import jet
+    from camtol.jet import Jet
+    from camtol.mechanisms.roller_common import pitch_curvature_radius
+    from camtol.mechanisms.roller_oscillating import oscillating_roller_pitch_curvature_radius
+
+    rng = np.random.default_rng(5)
+    n = 2000
+    gamma = Jet(rng.uniform(0.1, 1.4, n), rng.uniform(-0.8, 0.8, n), rng.uniform(-4, 4, n))
+    f, arm = 100.0, 70.0
+    general = pitch_curvature_radius(f - arm * jet.cos(gamma), (-side * arm) * jet.sin(gamma))
+    closed = oscillating_roller_pitch_curvature_radius(gamma, f, arm, side)
+    # Algebraically equal; the cross product cancels near an inflection, where both
+    # forms lose the same digits: 1e-11 relative, or 1e-9 of the radius scale there.
+    np.testing.assert_allclose(closed, general, rtol=1e-11, atol=1e-9 * f)

@@ -174,3 +174,22 @@ def test_design_file_schema_and_analysis() -> None:
     bad = {**base, "follower": {**base["follower"], "arm_length_mm": 10}}
     with pytest.raises(ConfigError, match="arm_length_mm"):
         design_from_mapping(bad)
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_frame_contact_is_the_general_formula_at_zero_bit_for_bit(side: int) -> None:
+    """θ = 0.0 (the engine's frame of the line of centres) takes a shorter path: same bits."""
+    from camtol.mechanisms.roller_oscillating import oscillating_roller_contact
+
+    rng = np.random.default_rng(3)
+    gamma, v = rng.uniform(0.2, 1.3, 500), rng.uniform(-0.6, 0.6, 500)
+    frame = oscillating_roller_contact(0.0, gamma, v, 120.0, 80.0, 15.0, side)
+    general = oscillating_roller_contact(np.zeros(500), gamma, v, 120.0, 80.0, 15.0, side)
+    fields = ("contact_x", "contact_y", "centre_x", "centre_y", "q", "pressure_angle")
+    for name in (*fields, "shift_angle"):
+        np.testing.assert_array_equal(
+            np.broadcast_to(getattr(frame, name), (500,)), getattr(general, name), err_msg=name
+        )
+    for key in ("pitch_x", "pitch_y", "normal_x", "normal_y", "centre_line_angle"):
+        np.testing.assert_array_equal(frame.extras[key], general.extras[key], err_msg=key)
+    assert np.all(np.isfinite(frame.pressure_angle))

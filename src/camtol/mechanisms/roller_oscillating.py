@@ -35,7 +35,7 @@ from camtol.mechanisms.base import (
     require_positive,
     shift_angle,
 )
-from camtol.mechanisms.roller_common import RollerMechanism, pitch_curvature_radius
+from camtol.mechanisms.roller_common import RollerMechanism
 
 __all__ = [
     "RollerOscillating",
@@ -79,7 +79,7 @@ def oscillating_roller_pitch(
 def oscillating_roller_pitch_curvature_radius(
     gamma: Jet, pivot_mm: float, arm_mm: float, side: int
 ) -> FloatArray:
-    """Signed radius of curvature of an oscillating roller's pitch curve (THEORY §2.4). [mm]
+    r"""Signed radius of curvature of an oscillating roller's pitch curve (THEORY §2.4). [mm]
 
     Parameters
     ----------
@@ -99,12 +99,31 @@ def oscillating_roller_pitch_curvature_radius(
     Notes
     -----
     In the frame of the line of centres the roller centre is
-    c = (f − l cos γ, −side·l sin γ) (:func:`oscillating_roller_pitch` turned back by θ);
-    :func:`~camtol.mechanisms.roller_common.pitch_curvature_radius` does the rest.
+    c = (f − l cos γ, −side·l sin γ) (:func:`oscillating_roller_pitch` turned back by θ).
+    :func:`~camtol.mechanisms.roller_common.pitch_curvature_radius`'s
+    ρ = |c' + Jc|³ / ((c' + Jc) × (c'' + 2Jc' − c)) then reduces, with m = γ' + side
+    (side² = 1), to
+
+    .. math::
+
+        |c' + Jc|^2 = l^2 m^2 + f^2 - 2\,\mathrm{side}\, f l m \cos γ
+
+        (c' + Jc) × (c'' + 2Jc' − c) = \mathrm{side}\, l^2 m^3 + f^2
+            - f l \left(m (m + \mathrm{side}) \cos γ + γ'' \sin γ\right)
+
+    which needs one sine and one cosine of γ and no jet arithmetic (the tests hold it to
+    the general form and to the cam frame's |P'|³/(P' × P'')).
     """
-    return pitch_curvature_radius(
-        pivot_mm - arm_mm * jet.cos(gamma), (-side * arm_mm) * jet.sin(gamma)
-    )
+    f, l_ = pivot_mm, arm_mm
+    sin_g, cos_g = np.sin(gamma.v), np.cos(gamma.v)
+    m = gamma.d1 + side
+    m2 = m * m
+    fl_cos = (f * l_) * cos_g
+    speed2 = (l_ * l_) * m2 + f * f - (2.0 * side) * m * fl_cos
+    cross = (side * l_ * l_) * m2 * m + f * f - (m2 + side * m) * fl_cos
+    cross -= (f * l_) * gamma.d2 * sin_g
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.asarray(speed2 * np.sqrt(speed2) / cross)
 
 
 def oscillating_roller_contact(
@@ -146,15 +165,35 @@ def oscillating_roller_contact(
     (THEORY's asin forms; atan2 here keeps the branch), and φ = 90° − α − γ
     (φ_A = 90° − α_A − ξ, φ_B = 90° − α_B − (η − ξ)), signed as THEORY writes it.
     """
-    cx, cy = oscillating_roller_pitch(theta, gamma, pivot_mm, arm_mm, side)
-    c, s = jet.cos(theta), jet.sin(theta)
-    q = pivot_mm * velocity / (1.0 - velocity)
-    qx, qy = -q * c, -q * s
-    dx, dy = cx - qx, cy - qy
+    cx: JetLike
+    cy: JetLike
+    qx: JetLike
+    qy: JetLike
+    dx: JetLike
+    dy: JetLike
+    frame = isinstance(theta, float) and theta == 0.0 and not isinstance(gamma, Jet)
+    if frame:
+        # The frame of the line of centres, where the engine evaluates a motion-only
+        # follower: the same formulas with cos θ = 1 and sin θ = 0 written out, the
+        # same numbers bit for bit and some ten array operations fewer.
+        g = jet.value(gamma)  # an array here
+        cx, cy = pivot_mm - arm_mm * np.cos(g), -(arm_mm * (side * np.sin(g)))
+        q = pivot_mm * velocity / (1.0 - velocity)
+        qx, qy = -q, 0.0
+        dx, dy = cx - qx, cy
+    else:
+        cx, cy = oscillating_roller_pitch(theta, gamma, pivot_mm, arm_mm, side)
+        c, s = jet.cos(theta), jet.sin(theta)
+        q = pivot_mm * velocity / (1.0 - velocity)
+        qx, qy = -q * c, -q * s
+        dx, dy = cx - qx, cy - qy
     dist = jet.hypot(dx, dy)
     nx, ny = dx / dist, dy / dist
     ax, ay = cx - roller_mm * nx, cy - roller_mm * ny
-    alpha = jet.arctan2(-side * (c * ny - s * nx), c * nx + s * ny)
+    if frame:
+        alpha = jet.arctan2(-side * ny, nx)
+    else:
+        alpha = jet.arctan2(-side * (c * ny - s * nx), c * nx + s * ny)
     pressure = math.pi / 2 - alpha - gamma
     return ContactGeometry(
         ax,
