@@ -117,7 +117,11 @@ def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
     # 1° grid: located to 1e-3° (step/1000) or better.
     t_max, t_kink = 1.23456, 4.56789
 
-    def f(t: np.ndarray) -> dict[str, np.ndarray]:
+    calls: list[frozenset[str]] = []
+
+    def f(t: np.ndarray, names: frozenset[str] | None = None) -> dict[str, np.ndarray]:
+        if names is not None:
+            calls.append(names)
         jump = np.where(np.mod(t, 2 * math.pi) < 2.0, np.mod(t, 2 * math.pi), 0.0)
         return {"smooth": np.cos(t - t_max), "kink": np.abs(np.sin(t - t_kink)), "jump": jump}
 
@@ -127,6 +131,9 @@ def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
     assert ext["smooth"][0].value == pytest.approx(1.0, abs=1e-12)
     kink = ext["kink"][1]
     assert kink.value < 2e-5  # within step/1000 of the zero: |sin| <= 1.75e-5
+    # The second (fine) call is asked only for what the coarse one left unrefined.
+    assert len(calls) == 2 and "smooth" in calls[0]
+    assert "kink" in calls[1] and "smooth" not in calls[1]
     assert min(abs(kink.theta_deg - math.degrees(t_kink) + k * 180) for k in (-1, 0, 1)) < 1e-3
     # sup of θ on [0, 2) is approached from below: the grid's last sample before 2 rad,
     # or a refined one at most step/1000 short of it
@@ -194,7 +201,7 @@ def test_nonfinite_callback_gets_the_first_bad_index() -> None:
     ext = find_extremes(
         theta,
         {"f": v},
-        lambda t: {"f": np.sin(t)},
+        lambda t, names: {"f": np.sin(t)},
         step_deg=1.0,
         on_nonfinite=lambda k, i: seen.append((k, i)),
     )

@@ -61,7 +61,7 @@ def test_extremes_refine_beyond_grid() -> None:
     ext = find_extremes(
         theta,
         {"f": np.cos(theta - t0)},
-        lambda t: {"f": np.cos(t - t0)},
+        lambda t, names: {"f": np.cos(t - t0)},
         step_deg=1.0,
     )["f"]
     assert ext[0].theta_deg == pytest.approx(math.degrees(t0), abs=1e-3)

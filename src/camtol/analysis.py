@@ -200,7 +200,7 @@ def max_radius_mm(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> f
 def _refined_max_radius(
     design: CamDesign, theta_rad: FloatArray, radius_mm: FloatArray, step_deg: float
 ) -> float:
-    def radius(t: FloatArray) -> dict[str, FloatArray]:
+    def radius(t: FloatArray, names: frozenset[str]) -> dict[str, FloatArray]:
         return {"radius": kinematics(design, t, check=False).radius_mm}
 
     top = find_extremes(theta_rad, {"radius": radius_mm}, radius, step_deg=step_deg)["radius"][0]
@@ -375,7 +375,7 @@ class Curves(Mapping[str, FloatArray]):
 def _extremes(
     curves: Curves,
     quantities: tuple[Quantity, ...],
-    evaluate: Callable[[FloatArray], Curves],
+    evaluate: Callable[[FloatArray, bool], Curves],
     theta_rad: FloatArray,
     step_deg: float,
 ) -> dict[str, tuple[Extreme, Extreme]]:
@@ -412,9 +412,11 @@ def _extremes(
     def nonfinite(key: str, i: int) -> None:
         _not_finite(labels[key], float(curves[key][i]), float(theta_rad[i]))
 
-    def values(t: FloatArray) -> dict[str, FloatArray]:
-        c = evaluate(t)
-        return {k: pick(c, k) for k in keys}
+    def values(t: FloatArray, names: frozenset[str]) -> dict[str, FloatArray]:
+        # The sensitivities' θ-derivatives only when a ΔV or ΔA is among the quantities
+        # refined (a kink of the worst-case ΔS, the usual second call, needs values).
+        c = evaluate(t, any(k[:3] in ("dV_", "dA_") for k in names))
+        return {k: pick(c, k) for k in names}
 
     found = find_extremes(theta_rad, _Lazy(), values, step_deg=step_deg, on_nonfinite=nonfinite)
     # A source's extremes are its sensitivity's × its deviation (finite sensitivities × a
@@ -478,8 +480,10 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         curves = Curves(cam, kin, err, sens["r"].v)
         quantities = _quantities(cam, tolerances)
 
-        def evaluate(t: FloatArray, tols: tuple[ResolvedTolerance, ...] = tolerances) -> Curves:
-            k, s = engine(t)
+        def evaluate(
+            t: FloatArray, derivatives: bool, tols: tuple[ResolvedTolerance, ...] = tolerances
+        ) -> Curves:
+            k, s = engine(t, derivatives=derivatives and bool(cam.tolerances))
             e = errors_from_sensitivities(t, k.left_limit, s, tols)
             return Curves(cam, k, e, s["r"].v)
 

@@ -158,7 +158,7 @@ def _plateaus(
 def find_extremes(
     theta_rad: FloatArray,
     values: Mapping[str, FloatArray],
-    evaluate: Callable[[FloatArray], Mapping[str, FloatArray]],
+    evaluate: Callable[[FloatArray, frozenset[str]], Mapping[str, FloatArray]],
     *,
     step_deg: float,
     on_nonfinite: Callable[[str, int], None] | None = None,
@@ -180,8 +180,10 @@ def find_extremes(
     values : mapping of str to ndarray
         Each quantity sampled on the grid (any unit; the extremes are in the same).
     evaluate : callable
-        ``evaluate(theta_rad) -> {quantity: values}`` at arbitrary angles (right limits);
-        called at most twice, on all refinement windows at once.
+        ``evaluate(theta_rad, names) -> {quantity: values}`` at arbitrary angles (right
+        limits); called at most twice, on all refinement windows at once, and only the
+        quantities in ``names`` (those refined by that call) are read from its result,
+        so it may compute no others.
     step_deg : float
         Grid step. [deg]
     on_nonfinite : callable, optional
@@ -223,17 +225,21 @@ def find_extremes(
             if not ranges:
                 centres.setdefault(float(theta_rad[i]), len(centres))
             pending.append((name, kind, target, float(theta_rad[i]), ranges))
-    names = {p[0] for p in pending if not p[4]}
+    names = frozenset(p[0] for p in pending if not p[4])
     coarse = _Windows(np.array(list(centres)), step / _FINE, _FINE, evaluate, names)
     found: dict[tuple[str, str], tuple[float, float, bool]] = {}
     retry: dict[float, int] = {}
+    kinked: set[str] = set()
     for name, kind, _, theta_i, ranges in pending:
         if ranges:
             continue
         found[name, kind] = coarse.best(name, kind, centres[theta_i])
         if not found[name, kind][2]:
             retry.setdefault(found[name, kind][0], len(retry))
-    fine = _Windows(np.array(list(retry)), step / _FINE**3, _FINE**2, evaluate, names)
+            kinked.add(name)
+    fine = _Windows(
+        np.array(list(retry)), step / _FINE**3, _FINE**2, evaluate, frozenset(kinked)
+    )
     out: dict[str, dict[str, Extreme]] = {}
     for name, kind, target, theta_i, ranges in pending:
         if ranges:
@@ -259,13 +265,13 @@ class _Windows:
         centres: FloatArray,
         h: float,
         n: int,
-        evaluate: Callable[[FloatArray], Mapping[str, FloatArray]],
-        names: set[str],
+        evaluate: Callable[[FloatArray, frozenset[str]], Mapping[str, FloatArray]],
+        names: frozenset[str],
     ) -> None:
         self.centres, self.h, self.size = centres, h, 2 * n + 1
         self.offsets = np.arange(-n, n + 1) * h
         if centres.size:
-            got = evaluate((centres[:, None] + self.offsets).ravel())
+            got = evaluate((centres[:, None] + self.offsets).ravel(), names)
             self.samples = {k: np.asarray(got[k], dtype=float) for k in names}
         else:
             self.samples = {}

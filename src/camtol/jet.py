@@ -421,4 +421,5 @@ def _norm(x: FloatArray, y: FloatArray) -> FloatArray:
         if out.ndim and out.shape == np.broadcast_shapes(out.shape, other.shape):
             np.add(out, other, out=out)
             return np.sqrt(out, out=out)
-    return np.sqrt(xx + yy)
+    norm: FloatArray = np.sqrt(xx + yy)  # 0-d inputs, or a broadcast of both
+    return norm

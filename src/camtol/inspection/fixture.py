@@ -161,7 +161,7 @@ def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureIn
     check_design_geometry(design)  # both cams, whatever the grid (issue 9)
     fac, variation, est, bands, predicted = _fixture_parts(design, spec, theta)
 
-    def evaluate(t: FloatArray) -> dict[str, FloatArray]:
+    def evaluate(t: FloatArray, names: frozenset[str]) -> dict[str, FloatArray]:
         _, var_t, est_t, bands_t, pred_t = _fixture_parts(design, spec, t)
         return fixture_curves(var_t, est_t, bands_t, predicted=pred_t)
 

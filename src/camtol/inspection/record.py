@@ -570,7 +570,7 @@ def record_estimates(
     extremes = find_extremes(
         theta,
         _estimate_curves(u_f, upper, lower),
-        lambda t: _estimate_curves(*parts(t)),
+        lambda t, names: _estimate_curves(*parts(t)),
         step_deg=step,
     )
     return RecordEstimates(processed, theta, u_f, upper, lower, extremes)
