@@ -16,13 +16,11 @@ from dataclasses import dataclass
 from typing import NoReturn
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
 from camtol.engine import evaluate_engine
 from camtol.errors import ErrorAnalysis, errors_from_sensitivities
-from camtol.exceptions import GeometryError
 from camtol.extremes import Extreme, find_extremes, overflow_error, scaled_extremes
 from camtol.grid import check_step
 from camtol.jet import FloatArray
@@ -472,7 +470,12 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
     )
     kin, sens = engine(theta, left)
     motion = MotionState(kin.lift, kin.velocity, kin.acceleration, kin.jerk)  # every cam's
-    others = tuple((c.label, _checked(c.label, c.design, theta, left, motion)) for c in cams[1:])
+    # Further cams share cam A's motion; check_design_geometry checked them above, as
+    # it did cam A, on a grid refined at each criterion's worst point (any grid passes).
+    others = tuple(
+        (c.label, kinematics(c.design, theta, left_limit=left, check=False, motion=motion))
+        for c in cams[1:]
+    )
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
     tolerances = cam.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:
@@ -541,20 +544,6 @@ def _geometry(
         )
         for i, cam in enumerate(design.cams())
     )
-
-
-def _checked(
-    label: str,
-    design: CamDesign,
-    theta_rad: FloatArray,
-    left_limit: NDArray[np.bool_],
-    motion: MotionState,
-) -> Kinematics:
-    """Kinematics of one further cam on the analysis grid, checked, the cam named."""
-    try:
-        return kinematics(design, theta_rad, left_limit=left_limit, check=True, motion=motion)
-    except GeometryError as exc:  # same class (UndercutError stays one), cam named
-        raise type(exc)(f"cam {label}: {exc}") from None
 
 
 def _not_finite(label: str, value: float, theta_rad: float) -> NoReturn:
