@@ -195,3 +195,19 @@ def test_lift_table_jerk_takes_left_limits_at_knots() -> None:
     inside_before = table.evaluate(knots - np.radians(0.5)).jerk
     assert left == pytest.approx(inside_before, rel=1e-12)  # J constant on each interval
     assert not np.allclose(left, right)  # and it jumps at the knot
+
+
+@pytest.mark.parametrize(
+    "coefficients",
+    [(0, 0, 0, 10, -15, 6), (0, 0, 0, 0, 35, -84, 70, -20), (1.5, -2.0, 0.0, 3.0)],
+)
+def test_polynomial_laws_equal_numpy_polyval_bit_for_bit(coefficients: tuple[float, ...]) -> None:
+    """The in-place Horner rule gives numpy's Polynomial values, signed zeros included."""
+    from camtol.motion_laws import _polynomial
+
+    x = np.concatenate([np.linspace(0.0, 1.0, 10_001), [-0.0, 0.0, 1.0]])
+    p = np.polynomial.Polynomial(coefficients)
+    expected = [p(x), p.deriv(1)(x), p.deriv(2)(x), p.deriv(3)(x)]
+    for got, want in zip(_polynomial(coefficients)(x), expected, strict=True):
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(np.signbit(got), np.signbit(want))

@@ -70,12 +70,26 @@ def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
 def _polynomial(coefficients: Sequence[float]) -> NormalizedLaw:
     """Return a law s(x) = Σ c_k x^k with its analytic derivatives."""
     p0 = np.polynomial.Polynomial(coefficients)
-    p1, p2, p3 = p0.deriv(1), p0.deriv(2), p0.deriv(3)
+    polys = [tuple(float(c) for c in p.coef) for p in (p0, p0.deriv(1), p0.deriv(2), p0.deriv(3))]
 
     def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        return p0(x), p1(x), p2(x), p3(x)
+        s, v, a, j = (_horner(c, x) for c in polys)
+        return s, v, a, j
 
     return law
+
+
+def _horner(coefficients: tuple[float, ...], x: FloatArray) -> FloatArray:
+    """Σ c_k x^k by Horner's rule in one array (numpy's polyval, without its temporaries).
+
+    The same operations in the same order as ``np.polynomial.polynomial.polyval``
+    (c ← c_k + c·x from the highest degree), hence the same numbers bit for bit (tested).
+    """
+    out = np.full(np.shape(x), coefficients[-1])
+    for c in reversed(coefficients[:-1]):
+        out *= x
+        out += c  # also c = 0: −0.0 + 0.0 is +0.0, as polyval gives it
+    return out
 
 
 @dataclass(frozen=True)
