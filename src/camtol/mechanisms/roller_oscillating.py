@@ -297,25 +297,28 @@ def oscillating_roller_lean_sensitivities(
     Q = (−q, 0), so C − Q = (d, −side·l sin γ) with d = f + q − l cos γ and ρ = |C − Q|:
     cos α = d/ρ, cos φ = sin(α + γ) = (f + q) sin γ/ρ and
     tan φ = ((f + q) cos γ − l)/((f + q) sin γ) (THEORY §2.4). With n = (C − Q)/ρ and
-    A = C − r_f n, sin λ = n × C/|A| = −side·l q sin γ/(ρ|A|) and
-    |A|² = |C|² − 2 r_f n·C + r_f² (THEORY §2.5); cos λ ≥ 0 as the arcsin of §2.5 gives it.
+    A = C − r_f n, |A|² = |C|² − 2 r_f n·C + r_f² and λ is the angle between n and O2A
+    (THEORY §2.5): cos λ = n·A/|A| = (n·C − r_f)/|A|, taken ≥ 0 as the arcsin of §2.5
+    gives it (|cos λ| = √(1 − sin²λ), fewer operations than through sin λ).
     """
     f, l_, rf = pivot_mm, arm_mm, roller_mm
     k = -float(side)
     fq = f / (1.0 - velocity)  # f + q, q = fV/(1 − V)
-    q = fq - f
     sin_g, cos_g = jet.sin(gamma), jet.cos(gamma)
-    d = fq - l_ * cos_g
+    lc = l_ * cos_g
+    d = fq - lc
     ls = l_ * sin_g
     ls2 = ls * ls
     rho = jet.sqrt(d * d + ls2)
     inv_rho = 1.0 / rho
     fq_sin = fq * sin_g
     inv = (k / l_) * rho / fq_sin  # k / (l cos φ)
-    n_dot_c = (d * (f - l_ * cos_g) + ls2) * inv_rho
-    radius = jet.sqrt((f * f + l_ * l_ + rf * rf) - 2.0 * f * l_ * cos_g - 2.0 * rf * n_dot_c)
-    sin_shift = q * ls * inv_rho / radius
-    cos_shift = jet.sqrt(1.0 - sin_shift * sin_shift)
+    n_dot_c = (d * (f - lc) + ls2) * inv_rho
+    radius = jet.sqrt((f * f + l_ * l_ + rf * rf) - (2.0 * f) * lc - (2.0 * rf) * n_dot_c)
+    cos_shift = (n_dot_c - rf) / radius
+    facing_in = jet.value(cos_shift) < 0.0  # n·A < 0: |cos λ| as the arcsin gives it
+    if np.any(facing_in):
+        cos_shift = cos_shift * np.where(facing_in, -1.0, 1.0)
     return {
         "r": cos_shift * inv,
         "n": inv,
