@@ -237,9 +237,7 @@ def find_extremes(
         if not found[name, kind][2]:
             retry.setdefault(found[name, kind][0], len(retry))
             kinked.add(name)
-    fine = _Windows(
-        np.array(list(retry)), step / _FINE**3, _FINE**2, evaluate, frozenset(kinked)
-    )
+    fine = _Windows(np.array(list(retry)), step / _FINE**3, _FINE**2, evaluate, frozenset(kinked))
     out: dict[str, dict[str, Extreme]] = {}
     for name, kind, target, theta_i, ranges in pending:
         if ranges:
