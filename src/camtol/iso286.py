@@ -108,7 +108,8 @@ SIZE_RANGES_MM: Final[tuple[tuple[float, float], ...]] = tuple(
 
 _UPPER_LIMITS_MM: Final[tuple[float, ...]] = tuple(hi for _, hi in SIZE_RANGES_MM)
 #: A size within this fraction above a range limit is that limit, and a deviation within
-#: it of a table value is that value (:func:`grade_of_deviation`). Sizes reach the table
+#: it of a table value is that value (:func:`grade_of_deviation`); camtol's one rule for
+#: rounding noise against a limit (the pressure-angle limit too). Sizes reach the table
 #: with rounding noise: a cam's computed maximum radius of 50 mm comes out as
 #: 50.000000000000007, a lift of 6° as 6.000000000000001 after degrees → radians →
 #: degrees. Noise must not move a size into the next range ("over 30 up to and including

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol.design import CamDesign
 from camtol.exceptions import GeometryError, PressureAngleWarning, UndercutError
+from camtol.iso286 import ROUNDING_RTOL
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import ContactGeometry
 from camtol.motion import MotionState
@@ -256,11 +257,6 @@ def _velocity_ratio(design: CamDesign, theta_rad: FloatArray, velocity: FloatArr
         )
 
 
-#: A pressure angle over its design limit by less than this fraction of the limit is at
-#: the limit: rounding noise (a face obliquity of 6° comes back as 6.000000000000001°).
-LIMIT_RTOL = 1e-12
-
-
 def beyond_pressure_angle_limit(angle_deg: float, limit_deg: float | None) -> bool:
     """Whether |φ| = ``angle_deg`` is beyond the design limit (never without a limit).
 
@@ -274,10 +270,12 @@ def beyond_pressure_angle_limit(angle_deg: float, limit_deg: float | None) -> bo
     Returns
     -------
     bool
-        True when ``angle_deg`` exceeds the limit by more than :data:`LIMIT_RTOL` of it;
-        a pressure angle equal to the limit meets it.
+        True when ``angle_deg`` exceeds the limit by more than
+        :data:`camtol.iso286.ROUNDING_RTOL` of it (a part in 10^12: rounding noise, as a
+        face obliquity of 6° comes back as 6.000000000000001°); a pressure angle equal to
+        the limit meets it.
     """
-    return limit_deg is not None and angle_deg - limit_deg > LIMIT_RTOL * abs(limit_deg)
+    return limit_deg is not None and angle_deg - limit_deg > ROUNDING_RTOL * abs(limit_deg)
 
 
 def check_geometry(design: CamDesign, kin: Kinematics) -> None:
