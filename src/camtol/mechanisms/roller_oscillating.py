@@ -171,6 +171,7 @@ def oscillating_roller_contact(
     qy: JetLike
     dx: JetLike
     dy: JetLike
+    q = pivot_mm * velocity / (1.0 - velocity)
     frame = isinstance(theta, float) and theta == 0.0 and not isinstance(gamma, Jet)
     if frame:
         # The frame of the line of centres, where the engine evaluates a motion-only
@@ -178,22 +179,19 @@ def oscillating_roller_contact(
         # same numbers bit for bit and some ten array operations fewer.
         g = jet.value(gamma)  # an array here
         cx, cy = pivot_mm - arm_mm * np.cos(g), -(arm_mm * (side * np.sin(g)))
-        q = pivot_mm * velocity / (1.0 - velocity)
         qx, qy = -q, 0.0
         dx, dy = cx - qx, cy
     else:
         cx, cy = oscillating_roller_pitch(theta, gamma, pivot_mm, arm_mm, side)
         c, s = jet.cos(theta), jet.sin(theta)
-        q = pivot_mm * velocity / (1.0 - velocity)
         qx, qy = -q * c, -q * s
         dx, dy = cx - qx, cy - qy
     dist = jet.hypot(dx, dy)
     nx, ny = dx / dist, dy / dist
     ax, ay = cx - roller_mm * nx, cy - roller_mm * ny
-    if frame:
-        alpha = jet.arctan2(-side * ny, nx)
-    else:
-        alpha = jet.arctan2(-side * (c * ny - s * nx), c * nx + s * ny)
+    # The normal in the frame of the line of centres (along it, across it).
+    along, across = (nx, ny) if frame else (c * nx + s * ny, c * ny - s * nx)
+    alpha = jet.arctan2(-side * across, along)
     pressure = math.pi / 2 - alpha - gamma
     return ContactGeometry(
         ax,
