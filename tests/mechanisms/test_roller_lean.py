@@ -98,3 +98,31 @@ def test_random_oscillating_rollers(
     _assert_lean_equals_general(
         RollerOscillating(rb, rf, f, arm), _program(math.radians(swing), rise)
     )
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_oscillating_lean_cos_shift_is_nonnegative_where_the_normal_faces_in(side: int) -> None:
+    """cos λ = n·A/|A| is taken ≥ 0 (as §2.5's arcsin gives it) where n·A < 0 too.
+
+    Random arm angles and ratios, far outside a working cam, put the contact normal
+    facing the cam's centre (n·A < 0) in about one case of seven; there the lean ΔS_r
+    must still equal the general form, cos(arcsin(sin λ)) ≥ 0.
+    """
+    from camtol.mechanisms.roller_oscillating import (
+        oscillating_roller_contact,
+        oscillating_roller_lean_sensitivities,
+        oscillating_roller_sensitivities,
+    )
+
+    rng = np.random.default_rng(0)
+    gamma, v = rng.uniform(0.05, 3.0, 20_000), rng.uniform(-3.0, 0.9, 20_000)
+    f, arm, rf = 100.0, 70.0, 30.0
+    geometry = oscillating_roller_contact(0.0, gamma, v, f, arm, rf, side)
+    nx, ny = jet.value(geometry.extras["normal_x"]), jet.value(geometry.extras["normal_y"])
+    n_dot_a = nx * jet.value(geometry.contact_x) + ny * jet.value(geometry.contact_y)
+    faces_in = n_dot_a < 0.0
+    assert np.count_nonzero(faces_in) > 1000  # the case is exercised
+    lean = jet.value(oscillating_roller_lean_sensitivities(gamma, v, f, arm, rf, side)["r"])
+    general = jet.value(oscillating_roller_sensitivities(geometry, arm, side)["r"])
+    # √(1 − sin²λ) of the general form loses digits as λ nears 90°: 1e-6 relative.
+    np.testing.assert_allclose(lean[faces_in], general[faces_in], rtol=1e-6)
