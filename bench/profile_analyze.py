@@ -5,6 +5,7 @@ several ``analyse`` calls of each built-in design (or the ones named) into its s
 that work on the speed targets of issue 8 starts from measurements:
 
 - ``grid engine``: the engine on the analysis grid (cam A: kinematics and sensitivities);
+- ``checks``: the design's geometry checks (every cam, on grids of their own);
 - ``other cams``: the kinematics of cam B of a conjugate pair on the same grid;
 - ``refinement``: the engine calls on the extremes' windows;
 - ``extremes scan``: the rest of the extremes' search (curves, argmax, windows);
@@ -23,9 +24,10 @@ from collections.abc import Callable
 from typing import Any
 
 import camtol.analysis as analysis_module
+import camtol.validity as validity_module
 from camtol.config import example_names, load_example
 
-STAGES = ("grid engine", "other cams", "refinement", "extremes scan", "rest")
+STAGES = ("checks", "grid engine", "other cams", "refinement", "extremes scan", "rest")
 
 
 def _timed(
@@ -55,11 +57,14 @@ def profile(name: str, angles: int, repeat: int) -> dict[str, float]:
     def other(dt: float, args: tuple[Any, ...]) -> None:
         times["other cams"] = times.get("other cams", 0.0) + dt
 
+    def checks(dt: float, args: tuple[Any, ...]) -> None:
+        times["checks"] = times.get("checks", 0.0) + dt
+
     def extremes(dt: float, args: tuple[Any, ...]) -> None:
         times["extremes"] = times.get("extremes", 0.0) + dt
 
     originals = {
-        key: getattr(analysis_module, key) for key in ("evaluate_engine", "_checked", "_extremes")
+        key: getattr(analysis_module, key) for key in ("evaluate_engine", "kinematics", "_extremes")
     }
     extremes_fn = originals["_extremes"]
 
@@ -71,7 +76,10 @@ def profile(name: str, angles: int, repeat: int) -> dict[str, float]:
             inside_extremes[0] = False
 
     setattr(analysis_module, "evaluate_engine", _timed(originals["evaluate_engine"], engine))  # noqa: B010
-    setattr(analysis_module, "_checked", _timed(originals["_checked"], other))  # noqa: B010
+    # analyse calls kinematics for the further cams only (cam A comes from the engine).
+    setattr(analysis_module, "kinematics", _timed(originals["kinematics"], other))  # noqa: B010
+    check = validity_module.check_design_geometry
+    setattr(validity_module, "check_design_geometry", _timed(check, checks))  # noqa: B010
     setattr(analysis_module, "_extremes", _timed(flagged_extremes, extremes))  # noqa: B010
     try:
         analysis_module.analyse(design, step_deg=step)  # warm-up: caches, imports
@@ -86,6 +94,7 @@ def profile(name: str, angles: int, repeat: int) -> dict[str, float]:
     finally:
         for key, fn in originals.items():
             setattr(analysis_module, key, fn)
+        setattr(validity_module, "check_design_geometry", check)  # noqa: B010
     assert best is not None
     best["extremes scan"] = best.pop("extremes", 0.0) - best.get("refinement", 0.0)
     best["rest"] = best["total"] - sum(best.get(s, 0.0) for s in STAGES if s != "rest")
@@ -99,10 +108,10 @@ def main(argv: list[str]) -> None:
     names = argv[1:] or example_names()
     repeat = 20 if angles <= 40_000 else 5
     print(f"analyse at {angles:,} angles, best of {repeat}: stage times [ms]")
-    print(f"{'design':<20} {'total':>8}" + "".join(f" {s:>14}" for s in STAGES))
+    print(f"{'design':<20} {'total':>8}" + "".join(f" {s:>13}" for s in STAGES))
     for name in names:
         t = profile(name, angles, repeat)
-        row = "".join(f" {t.get(s, 0.0):14.2f}" for s in STAGES)
+        row = "".join(f" {t.get(s, 0.0):13.2f}" for s in STAGES)
         print(f"{name:<20} {t['total']:8.2f}{row}")
 
 
