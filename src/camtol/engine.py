@@ -8,8 +8,9 @@ evaluation of the mechanism's closed forms:
 - a mechanism with a lean closed form for its sensitivities (every follower type) gets
   its contact geometry as plain arrays and its sensitivities as jets; a motion-only one
   (:attr:`~camtol.mechanisms.base.Mechanism.motion_only`) is evaluated once per motion
-  state at θ = 0, in the frame of the line of centres, and its points are then turned by
-  θ (kinematic inversion, THEORY §0): a dwell costs one row;
+  state at θ = 0, in the frame of the line of centres, and its points are turned by θ
+  when first read (kinematic inversion, THEORY §0): a dwell costs one row, and an
+  analysis that never reads the profile never turns it;
 - otherwise one evaluation of the contact geometry as jets serves both (the kinematics
   are its values).
 
@@ -30,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from camtol import jet
 from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import Kinematics, check_geometry, check_velocity_ratio
+from camtol.kinematics import Kinematics, ProfilePoints, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import ContactGeometry, Mechanism
 from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
@@ -186,7 +187,8 @@ def _motion_quantities(
     ``state`` is (θ, S, V, A, J) of the chunk; the sensitivities are jets, or plain values
     without ``derivatives``. The geometry of a
     :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
-    centres, THEORY §0), for :func:`_turn` to turn to the chunk's angles.
+    centres, THEORY §0): its points are turned to the chunk's angles when first read
+    (:class:`~camtol.kinematics.ProfilePoints`).
 
     With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
     state are not evaluated: the values hold the evaluated rows only and the returned
@@ -231,31 +233,6 @@ def _geometry_values(
     values["radius"] = jet.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
     values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     return values
-
-
-def _turn(
-    geometry: dict[str, JetLike], theta_rad: FloatArray, index: NDArray[np.intp] | None
-) -> None:
-    """Turn the points of a frame geometry (θ = 0) to the cam angles, in place.
-
-    A motion-only mechanism's cam-frame geometry at θ is its frame geometry turned by θ
-    (kinematic inversion, THEORY §0); lengths and angles do not turn. Compressed rows
-    (``index``, see :func:`_motion_quantities`) are spread first.
-    """
-    c, s = np.cos(theta_rad), np.sin(theta_rad)
-    for kx, ky in (("contact_x", "contact_y"), ("centre_x", "centre_y")):
-        x, y = jet.value(geometry[kx]), jet.value(geometry[ky])
-        if index is not None:
-            x, y = _spread(x, index), _spread(y, index)
-        geometry[kx], geometry[ky] = c * x - s * y, s * x + c * y
-
-
-def _spread(x: FloatArray, index: NDArray[np.intp]) -> FloatArray:
-    """Rows ``index`` of a chunk's compressed values (a constant stays a constant)."""
-    a = np.asarray(x)
-    if a.ndim == 0 or a.strides == (0,):
-        return np.broadcast_to(a.reshape(-1)[0] if a.ndim else a, index.shape)
-    return a[index]
 
 
 def evaluate_engine(
@@ -363,8 +340,6 @@ def evaluate_engine(
                 sources=sensitivities,
                 derivatives=derivatives,
             )
-            if mech.motion_only:
-                _turn(values, t, index)
         for key in design_keys:  # design-level sources the design tolerances
             chunk_sens[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         for key, x in chunk_sens.items():
@@ -388,15 +363,19 @@ def evaluate_engine(
         velocity=motion.velocity,
         acceleration=motion.acceleration,
         jerk=motion.jerk,
-        contact_x_mm=c["contact_x"],
-        contact_y_mm=c["contact_y"],
         radius_mm=c["radius"],
-        centre_x_mm=c["centre_x"],
-        centre_y_mm=c["centre_y"],
         q_mm=motion.velocity if q_is_velocity else c["q"],
         pressure_angle_rad=c["pressure_angle"],
         shift_angle_rad=c["shift_angle"],
         curvature_radius_mm=c["curvature_radius"],
+        # A motion-only mechanism's points are in the frame of the line of centres.
+        points=ProfilePoints(
+            c["contact_x"],
+            c["contact_y"],
+            c["centre_x"],
+            c["centre_y"],
+            theta if mech.motion_only and not shared else None,
+        ),
         face_contact_mm=c.get("face_contact"),
         follower_angle_rad=c.get("follower_angle"),
     )

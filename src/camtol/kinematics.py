@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,6 +26,7 @@ from camtol.motion import MotionState
 
 __all__ = [
     "Kinematics",
+    "ProfilePoints",
     "analysis_grid",
     "beyond_pressure_angle_limit",
     "check_velocity_ratio",
@@ -33,6 +34,72 @@ __all__ = [
     "kinematics",
     "to_jet",
 ]
+
+
+@dataclass(frozen=True, eq=False)
+class ProfilePoints:
+    """Contact point A and instant centre Q = I23 at every angle of a grid.
+
+    A motion-only follower's points are computed once per motion state in the frame of
+    the line of centres (θ = 0, THEORY §0) and turned by θ into the cam frame on first
+    use (kinematic inversion): an analysis that never reads the profile does not pay for
+    the turn, a sine and a cosine of every grid angle, the dearest step of such a cam.
+    The turned points are those the formulas give at θ, bit for bit (tests).
+
+    Attributes
+    ----------
+    contact_x_mm, contact_y_mm, centre_x_mm, centre_y_mm : ndarray
+        A and Q as computed: in the cam frame, or in the frame of the line of centres
+        when ``turn_rad`` is given. [mm]
+    turn_rad : ndarray or None
+        The angles θ to turn each row by into the cam frame (None: already there). [rad]
+    """
+
+    contact_x_mm: FloatArray
+    contact_y_mm: FloatArray
+    centre_x_mm: FloatArray
+    centre_y_mm: FloatArray
+    turn_rad: FloatArray | None = None
+
+    @cached_property
+    def cam_frame(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Return (x_A, y_A, x_Q, y_Q) in the cam frame, turned once and kept. [mm]"""
+        xa, ya, xq, yq = self.contact_x_mm, self.contact_y_mm, self.centre_x_mm, self.centre_y_mm
+        if self.turn_rad is None:
+            return xa, ya, xq, yq
+        c, s = np.cos(self.turn_rad), np.sin(self.turn_rad)
+        return c * xa - s * ya, s * xa + c * ya, c * xq - s * yq, s * xq + c * yq
+
+    def joined(self, other: ProfilePoints) -> ProfilePoints:
+        """Return the points of ``self``'s rows followed by ``other``'s.
+
+        Parameters
+        ----------
+        other : ProfilePoints
+            The rows to append; two deferred turns stay deferred.
+
+        Returns
+        -------
+        ProfilePoints
+        """
+        if self.turn_rad is not None and other.turn_rad is not None:
+            mine: tuple[FloatArray, ...] = (
+                self.contact_x_mm,
+                self.contact_y_mm,
+                self.centre_x_mm,
+                self.centre_y_mm,
+                self.turn_rad,
+            )
+            theirs: tuple[FloatArray, ...] = (
+                other.contact_x_mm,
+                other.contact_y_mm,
+                other.centre_x_mm,
+                other.centre_y_mm,
+                other.turn_rad,
+            )
+        else:
+            mine, theirs = self.cam_frame, other.cam_frame
+        return ProfilePoints(*(np.concatenate([a, b]) for a, b in zip(mine, theirs, strict=True)))
 
 
 @dataclass(frozen=True)
@@ -52,12 +119,10 @@ class Kinematics:
         True where the row is the left limit at a boundary.
     lift, velocity, acceleration, jerk : ndarray
         S, V, A, J of the motion program. [mm or rad, per rad^k]
-    contact_x_mm, contact_y_mm : ndarray
-        Contact point A in the cam frame. [mm]
     radius_mm : ndarray
         Radial dimension |O2A| of the contact point. [mm]
-    centre_x_mm, centre_y_mm, q_mm : ndarray
-        Instant centre Q = I23 and its signed distance q. [mm]
+    q_mm : ndarray
+        Signed distance q of the instant centre Q = I23. [mm]
     pressure_angle_rad, shift_angle_rad : ndarray
         Signed pressure angle φ and shift angle λ. [rad]
     curvature_radius_mm : ndarray
@@ -66,6 +131,9 @@ class Kinematics:
         Flat faces: u, signed distance from the face reference point P to A. [mm]
     follower_angle_rad : ndarray or None
         Oscillating followers: ξ. [rad]
+    points : ProfilePoints
+        Contact point A and instant centre Q; read them in the cam frame as
+        ``contact_x_mm``, ``contact_y_mm``, ``centre_x_mm`` and ``centre_y_mm``. [mm]
     """
 
     theta_rad: FloatArray
@@ -74,17 +142,34 @@ class Kinematics:
     velocity: FloatArray
     acceleration: FloatArray
     jerk: FloatArray
-    contact_x_mm: FloatArray
-    contact_y_mm: FloatArray
     radius_mm: FloatArray
-    centre_x_mm: FloatArray
-    centre_y_mm: FloatArray
     q_mm: FloatArray
     pressure_angle_rad: FloatArray
     shift_angle_rad: FloatArray
     curvature_radius_mm: FloatArray
+    points: ProfilePoints
     face_contact_mm: FloatArray | None = None
     follower_angle_rad: FloatArray | None = None
+
+    @property
+    def contact_x_mm(self) -> FloatArray:
+        """Abscissa x of the contact point A in the cam frame. [mm]"""
+        return self.points.cam_frame[0]
+
+    @property
+    def contact_y_mm(self) -> FloatArray:
+        """Ordinate y of the contact point A in the cam frame. [mm]"""
+        return self.points.cam_frame[1]
+
+    @property
+    def centre_x_mm(self) -> FloatArray:
+        """Abscissa x of the instant centre Q = I23 in the cam frame. [mm]"""
+        return self.points.cam_frame[2]
+
+    @property
+    def centre_y_mm(self) -> FloatArray:
+        """Ordinate y of the instant centre Q = I23 in the cam frame. [mm]"""
+        return self.points.cam_frame[3]
 
 
 def analysis_grid(

@@ -229,8 +229,9 @@ def _check_single(design: CamDesign) -> None:
             if getattr(kin, f.name) is None
             else np.concatenate([getattr(kin, f.name), getattr(more, f.name)])
             for f in dataclasses.fields(Kinematics)
+            if f.name != "points"
         }
-        kin = Kinematics(**joined)
+        kin = Kinematics(**joined, points=kin.points.joined(more.points))
     check_geometry(design, kin)
 
 
