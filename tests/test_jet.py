@@ -86,3 +86,37 @@ def test_hypot_broadcasts_scalars_and_arrays(x: object, y: object, shape: tuple[
     out = jet.hypot(x, y)  # type: ignore[arg-type]
     assert np.shape(out) == shape
     np.testing.assert_array_equal(out, np.full(shape, 5.0))
+
+
+def test_sincos_is_sin_and_cos_for_arrays_scalars_and_jets() -> None:
+    t = np.linspace(-4.0, 4.0, 101)
+    s, c = jet.sincos(t)
+    np.testing.assert_array_equal(s, np.sin(t))
+    np.testing.assert_array_equal(c, np.cos(t))
+    assert jet.sincos(0.25) == (np.sin(0.25), np.cos(0.25))
+    x = Jet(0.5 * t, np.cos(t), -np.sin(t))
+    js, jc = jet.sincos(x)
+    for got, want in ((js, jet.sin(x)), (jc, jet.cos(x))):
+        assert isinstance(got, Jet) and isinstance(want, Jet)
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_array_equal(getattr(got, part), getattr(want, part))
+
+
+def test_reused_sincos_reuses_equal_angles_in_its_block_only() -> None:
+    """The engine's per-chunk memo: equal angles (another array) give the same results."""
+    t = np.linspace(0.0, 1.0, 50)
+    with jet.reused_sincos():
+        s1, c1 = jet.sincos(t)
+        s2, c2 = jet.sincos(t.copy())  # equal values, another array: reused
+        assert s2 is s1 and c2 is c1
+        with pytest.raises(ValueError, match="read-only"):
+            s1 += 1.0  # no formula can change what the next caller gets
+        js, _ = jet.sincos(Jet(t.copy(), np.ones(50), np.zeros(50)))
+        assert isinstance(js, Jet) and js.v is s1  # a jet of the same angles too
+        other = t.copy()
+        other[0] = -0.0  # bitwise different: sin(-0.0) is -0.0
+        s3, _ = jet.sincos(other)
+        assert s3 is not s1 and np.signbit(s3[0]) and not np.signbit(s1[0])
+    s4, _ = jet.sincos(t)  # outside the block: computed afresh, writable
+    assert s4 is not s1 and s4.flags.writeable
+    np.testing.assert_array_equal(s4, s1)

@@ -328,18 +328,21 @@ def evaluate_engine(
         else:
             th, lift, vel = t, s, v
         index = None
-        if shared:
-            g = mech.contact(th, lift, vel)
-            chunk_sens = dict(mech.sensitivities(g, th))
-            values = _geometry_values(mech, g, (t, s, v, acc))
-        else:
-            values, chunk_sens, index = _motion_quantities(
-                mech,
-                (t, s, v, acc, jerk),
-                None if repeats is None else repeats[at],
-                sources=sensitivities,
-                derivatives=derivatives,
-            )
+        # A follower's formulas take the sine and cosine of the same angles several
+        # times (an oscillating arm's angle): once per chunk.
+        with jet.reused_sincos():
+            if shared:
+                g = mech.contact(th, lift, vel)
+                chunk_sens = dict(mech.sensitivities(g, th))
+                values = _geometry_values(mech, g, (t, s, v, acc))
+            else:
+                values, chunk_sens, index = _motion_quantities(
+                    mech,
+                    (t, s, v, acc, jerk),
+                    None if repeats is None else repeats[at],
+                    sources=sensitivities,
+                    derivatives=derivatives,
+                )
         for key in design_keys:  # design-level sources the design tolerances
             chunk_sens[key] = DESIGN_SOURCES[key].sensitivity(mech, th, lift, vel)
         for key, x in chunk_sens.items():

@@ -126,7 +126,7 @@ class FlatOscillating(Mechanism):
         f, e = self.pivot_distance_mm, self.face_offset_mm
         xi = self.initial_angle_rad + lift
         q = f * velocity / (1.0 - velocity)
-        sx, cx = jet.sin(xi), jet.cos(xi)
+        sx, cx = jet.sincos(xi)
         qe = (f + q) * sx
         c, s = jet.cos(theta), jet.sin(theta)
         # (cos, sin)(θ + α) with α = 90° − ξ, from sin ξ and cos ξ: no further sine
@@ -173,7 +173,7 @@ class FlatOscillating(Mechanism):
         """
         f = self.pivot_distance_mm
         xi = lift + self.initial_angle_rad
-        sx, cx = jet.sin(xi), jet.cos(xi)
+        sx, cx = jet.sincos(xi)
         q = velocity * f / (1.0 - velocity)
         p = sx * f + self.face_offset_mm
         dp = q * cx
@@ -195,13 +195,13 @@ class FlatOscillating(Mechanism):
         """Closed-form ρ (see class Notes). [mm]"""
         f, e = self.pivot_distance_mm, self.face_offset_mm
         xi = self.initial_angle_rad + lift
-        sin_xi = np.sin(xi)  # once: transcendentals dominate
+        sin_xi, cos_xi = jet.sincos(xi)  # once: transcendentals dominate
         one_v = 1.0 - velocity
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.asarray(
                 f * sin_xi
                 + e
-                + f * (acceleration * np.cos(xi) / one_v**3 - velocity**2 * sin_xi / one_v**2)
+                + f * (acceleration * cos_xi / one_v**3 - velocity**2 * sin_xi / one_v**2)
             )
 
     def contact_element(self) -> OscillatingFace:

@@ -115,7 +115,7 @@ def oscillating_roller_pitch_curvature_radius(
     the general form and to the cam frame's |P'|³/(P' × P'')).
     """
     f, l_ = pivot_mm, arm_mm
-    sin_g, cos_g = np.sin(gamma.v), np.cos(gamma.v)
+    sin_g, cos_g = jet.sincos(gamma.v)
     m = gamma.d1 + side
     m2 = m * m
     fl_cos = (f * l_) * cos_g
@@ -177,8 +177,8 @@ def oscillating_roller_contact(
         # The frame of the line of centres, where the engine evaluates a motion-only
         # follower: the same formulas with cos θ = 1 and sin θ = 0 written out, the
         # same numbers bit for bit and some ten array operations fewer.
-        g = jet.value(gamma)  # an array here
-        cx, cy = pivot_mm - arm_mm * np.cos(g), -(arm_mm * (side * np.sin(g)))
+        sin_g, cos_g = jet.sincos(jet.value(gamma))  # arrays here
+        cx, cy = pivot_mm - arm_mm * cos_g, -(arm_mm * (side * sin_g))
         qx, qy = -q, 0.0
         dx, dy = cx - qx, cy
     else:
@@ -302,7 +302,7 @@ def oscillating_roller_lean_sensitivities(
     f, l_, rf = pivot_mm, arm_mm, roller_mm
     k = -float(side)
     fq = f / (1.0 - velocity)  # f + q, q = fV/(1 − V)
-    sin_g, cos_g = jet.sin(gamma), jet.cos(gamma)
+    sin_g, cos_g = jet.sincos(gamma)
     lc = l_ * cos_g
     d = fq - lc
     ls = l_ * sin_g
