@@ -14,7 +14,12 @@ from camtol.config import load_example
 from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.kinematics import analysis_grid
-from camtol.sizing import _cam_kinematics, _problems, minimum_base_radius
+from camtol.sizing import (
+    _cam_kinematics,
+    _pressure_angle_problem,
+    _problems,
+    minimum_base_radius,
+)
 from camtol.summary import cam_geometry
 
 
@@ -131,3 +136,21 @@ def test_analyze_failure_says_which_radius_works(
     err = capsys.readouterr().err
     assert "a base radius of at least 24.66 mm would work" in err
     assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    ("max_abs_deg", "limit_deg", "problem"),
+    [
+        (30.0, 30.0, False),  # equal to the limit meets it, as the reports say
+        (30.0 * (1 + 1e-13), 30.0, False),  # rounding noise of the limit
+        (30.0 + 1e-9, 30.0, True),
+        (89.0, None, False),
+        (90.0, None, True),  # no cam works at 90°, with or without a limit
+        (90.0, 90.0, True),
+    ],
+)
+def test_pressure_angle_requirement_agrees_with_the_reports(
+    max_abs_deg: float, limit_deg: float | None, problem: bool
+) -> None:
+    """Sizing and the reports apply one rule (kinematics.beyond_pressure_angle_limit)."""
+    assert _pressure_angle_problem(max_abs_deg, limit_deg) is problem

@@ -40,7 +40,12 @@ from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
-from camtol.kinematics import Kinematics, analysis_grid, kinematics
+from camtol.kinematics import (
+    Kinematics,
+    analysis_grid,
+    beyond_pressure_angle_limit,
+    kinematics,
+)
 from camtol.mechanisms.base import Mechanism
 from camtol.summary import CamGeometry, cam_geometry
 
@@ -102,6 +107,26 @@ def _problems(geometry: CamGeometry, kin: Kinematics) -> list[str]:
     if geometry.undercut:
         problems.append("undercut")
     return problems
+
+
+def _pressure_angle_problem(max_abs_deg: float, limit_deg: float | None) -> bool:
+    """Whether a largest |φ| fails the sizing's pressure-angle requirement.
+
+    Parameters
+    ----------
+    max_abs_deg : float
+        Largest |φ| of a cam. [deg]
+    limit_deg : float or None
+        The limit; None: none beyond the 90° at which no cam works. [deg]
+
+    Returns
+    -------
+    bool
+        True at or beyond 90°, or beyond the limit by more than rounding noise
+        (:func:`~camtol.kinematics.beyond_pressure_angle_limit`: a pressure angle equal to
+        the limit meets it, as the reports say).
+    """
+    return max_abs_deg >= 90.0 or beyond_pressure_angle_limit(max_abs_deg, limit_deg)
 
 
 def minimum_base_radius(
@@ -168,7 +193,6 @@ def minimum_base_radius(
                 f"{name}={value!r} is not allowed; give a positive number"
                 + (f" up to {upper:g}" if math.isfinite(upper) else "")
             )
-    limit_rad = math.radians(limit if limit is not None else 90.0)
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
     if mech.output == "oscillating":
         v = design.program.evaluate(theta, left_limit=left).velocity
@@ -196,7 +220,7 @@ def minimum_base_radius(
             s = cam_geometry(label, m, kin, pressure_angle_limit_deg=limit)
             sizes.append(s)
             problems += _problems(s, kin)
-            if s.max_abs_pressure_angle_deg > math.degrees(limit_rad) - 1e-12:
+            if _pressure_angle_problem(s.max_abs_pressure_angle_deg, limit):
                 problems.append("pressure angle")
             if min_radius_mm is not None and s.min_convex_radius_mm < min_radius_mm:
                 problems.append("convex radius of curvature")
