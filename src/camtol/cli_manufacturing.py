@@ -7,7 +7,6 @@ input (one line on stderr, nothing written). Output files go through
 
 from __future__ import annotations
 
-import io
 import math
 from typing import Any
 
@@ -258,6 +257,7 @@ def cut(
         from camtol.grid import check_step
         from camtol.manufacturing.cutting import coarsest_cut_step, simulate_cut
         from camtol.manufacturing.toolpath import single_cams
+        from camtol.report.csv_text import csv_text
         from camtol.report.finite import require_finite_columns
 
         steps = _floats(cut_steps_text, "--cut-step")
@@ -312,11 +312,7 @@ def cut(
                 [np.degrees(again[0].theta_rad)] + [r.lift_error_display for r in again]
             )
             require_finite_columns(dict(zip(header, data.T, strict=True)), where=curves_path)
-            buf = io.StringIO()
-            buf.write(",".join(header) + "\n")
-            for row in data:
-                buf.write(",".join(f"{v:.10g}" for v in row) + "\n")
-            atomic_write(curves_path, buf.getvalue())
+            atomic_write(curves_path, csv_text(header, data))
         if as_json:
             doc: dict[str, Any] = {
                 "design": d.name,
@@ -412,6 +408,7 @@ def derive(
         from camtol.exceptions import InputFileError
         from camtol.files import atomic_write
         from camtol.manufacturing.derivatives import derive_lift
+        from camtol.report.csv_text import csv_text
         from camtol.report.finite import require_finite_columns
         from camtol.tables import read_table
 
@@ -446,19 +443,20 @@ def derive(
         per = 1e-3
         g = res.gains
         if output is not None:
-            buf = io.StringIO()
-            buf.write(
-                f"theta_deg,lift_{unit},lift_smoothed_{unit},V_{unit}_per_rad,"
-                f"A_{unit}_per_rad2,J_{unit}_per_rad3\n"
-            )
+            header = [
+                "theta_deg",
+                f"lift_{unit}",
+                f"lift_smoothed_{unit}",
+                f"V_{unit}_per_rad",
+                f"A_{unit}_per_rad2",
+                f"J_{unit}_per_rad3",
+            ]
             data = np.column_stack(
                 [theta, res.lift_measured, res.lift, res.velocity, res.acceleration, res.jerk]
             )
             names = ["theta_deg", "lift", "lift_smoothed", "V", "A", "J"]
             require_finite_columns(dict(zip(names, data.T, strict=True)), where=output)
-            for row in data:
-                buf.write(",".join(f"{v:.10g}" for v in row) + "\n")
-            atomic_write(output, buf.getvalue())
+            atomic_write(output, csv_text(header, data))
         noise_unit = "um" if unit == "mm" else "mdeg"
         doc = {
             "file": lift_csv,

@@ -8,8 +8,6 @@ a store written by a newer camtol, no matching records). Documented in docs/reco
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Callable, Sequence
 from datetime import datetime
@@ -57,13 +55,10 @@ def _write_csv(path: str, header: Sequence[str], columns: Sequence[Any]) -> None
     import numpy as np
 
     from camtol.files import atomic_write
+    from camtol.report.csv_text import csv_text
 
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(header)
     data = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
-    w.writerows([[f"{x:.10g}" if math.isfinite(x) else "" for x in row] for row in data])
-    atomic_write(path, buf.getvalue())
+    atomic_write(path, csv_text(header, data, blank_nonfinite=True))
 
 
 def _cam_filter(cam: str | None) -> str | None:

@@ -6,8 +6,6 @@ per cam) and by ``camtol conjugate`` (extremes, acceptance verdicts, failing int
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import sys
 from pathlib import Path
@@ -183,17 +181,14 @@ def write_fixture_curves_csv(
         With an indicator record: adds the columns of u_f and of the estimates at
         Δf_mea ± u_f (see :func:`fixture_curves_columns`). [µm]
     """
+    from camtol.report.csv_text import csv_text
     from camtol.report.finite import require_finite_columns
     from camtol.report.tables import atomic_write_text
 
     cols = fixture_curves_columns(res, record=record)
     require_finite_columns(cols, optional=OPTIONAL_FIXTURE_COLUMNS, where=str(path))
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(cols)
     data = np.column_stack(list(cols.values()))
-    w.writerows([[f"{x:.10g}" if math.isfinite(x) else "" for x in row] for row in data])
-    atomic_write_text(path, buf.getvalue())
+    atomic_write_text(path, csv_text(list(cols), data, blank_nonfinite=True))
 
 
 def _extreme(mx: Extreme, mn: Extreme) -> dict[str, Any]:

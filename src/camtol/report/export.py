@@ -8,7 +8,6 @@ does both for a design.
 
 from __future__ import annotations
 
-import io
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Literal
@@ -42,12 +41,9 @@ ExportFormat = Literal["csv", "dxf", "svg"]
 # ---------------------------------------------------------------------------------------
 def _csv_text(cols: dict[str, FloatArray]) -> str:
     """One row per cam angle: the columns of :func:`camtol.profile.profile_table`."""
-    buf = io.StringIO()
-    buf.write(",".join(cols) + "\n")
-    data = np.column_stack(list(cols.values()))
-    for row in data:
-        buf.write(",".join(f"{v:.12g}" for v in row) + "\n")
-    return buf.getvalue()
+    from camtol.report.csv_text import csv_text
+
+    return csv_text(list(cols), np.column_stack(list(cols.values())), digits=12)
 
 
 def export_format(path: str | Path) -> ExportFormat:

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camtol.files import atomic_write
+from camtol.report.csv_text import csv_text
 from camtol.report.display import output_error_unit
 
 if TYPE_CHECKING:
@@ -129,8 +130,7 @@ def inspection_json(
 def _csv(columns: dict[str, np.ndarray], comment: str) -> str:
     names = list(columns)
     data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
-    rows = "\n".join(",".join(f"{v:.10g}" for v in row) for row in data.tolist())
-    return f"# {comment}\n" + ",".join(names) + "\n" + rows + "\n"
+    return csv_text(names, data, comment=comment)
 
 
 def write_curves_csv(insp: CmmInspection, path: str) -> None:

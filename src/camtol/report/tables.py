@@ -8,9 +8,7 @@ design gives a cam speed (``um_per_s``).
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import io
 import math
 import sys
 from collections.abc import Iterable
@@ -26,6 +24,7 @@ from camtol.extremes import Extreme
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
 from camtol.kinematics import beyond_pressure_angle_limit
+from camtol.report.csv_text import csv_text
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
 from camtol.summary import STANDARD_GRAVITY, CamGeometry
@@ -359,12 +358,8 @@ def write_curves_csv(a: Analysis, path: str | Path) -> None:
 
     cols = curves_columns(a)
     require_finite_columns(cols, where=str(path))
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(cols)
     data = np.column_stack(list(cols.values()))
-    w.writerows([[f"{v:.10g}" for v in row] for row in data])
-    atomic_write_text(path, buf.getvalue())
+    atomic_write_text(path, csv_text(list(cols), data))
 
 
 def _fmt(v: float) -> str:
