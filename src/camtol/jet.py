@@ -296,8 +296,7 @@ def sincos(x: JetLike) -> tuple[JetLike, JetLike]:
         (sin x, cos x), jets when ``x`` is one. [dimensionless]
     """
     if isinstance(x, Jet):
-        s, c = _sincos(x)
-        return x._chain(s, c, -s), x._chain(c, -s, -c)
+        return sin(x), cos(x)  # one sine and cosine of the value per jet (_sincos)
     a = np.asarray(x, dtype=float)
     if a.ndim == 0:
         return np.sin(x), np.cos(x)
