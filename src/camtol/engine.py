@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from camtol import jet
 from camtol.design import CamDesign
 from camtol.jet import FloatArray, Jet, JetLike
-from camtol.kinematics import Kinematics, ProfilePoints, check_geometry, check_velocity_ratio
+from camtol.kinematics import ContactPoints, Kinematics, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import ContactGeometry, Mechanism
 from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
@@ -188,7 +188,7 @@ def _motion_quantities(
     without ``derivatives``. The geometry of a
     :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
     centres, THEORY §0): its points are turned to the chunk's angles when first read
-    (:class:`~camtol.kinematics.ProfilePoints`).
+    (:class:`~camtol.kinematics.ContactPoints`).
 
     With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
     state are not evaluated: the values hold the evaluated rows only and the returned
@@ -372,7 +372,7 @@ def evaluate_engine(
         shift_angle_rad=c["shift_angle"],
         curvature_radius_mm=c["curvature_radius"],
         # A motion-only mechanism's points are in the frame of the line of centres.
-        points=ProfilePoints(
+        contact_points=ContactPoints(
             c["contact_x"],
             c["contact_y"],
             c["centre_x"],

@@ -26,7 +26,7 @@ from camtol.motion import MotionState
 
 __all__ = [
     "Kinematics",
-    "ProfilePoints",
+    "ContactPoints",
     "analysis_grid",
     "beyond_pressure_angle_limit",
     "check_velocity_ratio",
@@ -37,7 +37,7 @@ __all__ = [
 
 
 @dataclass(frozen=True, eq=False)
-class ProfilePoints:
+class ContactPoints:
     """Contact point A and instant centre Q = I23 at every angle of a grid.
 
     A motion-only follower's points are computed once per motion state in the frame of
@@ -70,36 +70,31 @@ class ProfilePoints:
         c, s = np.cos(self.turn_rad), np.sin(self.turn_rad)
         return c * xa - s * ya, s * xa + c * ya, c * xq - s * yq, s * xq + c * yq
 
-    def joined(self, other: ProfilePoints) -> ProfilePoints:
+    def joined(self, other: ContactPoints) -> ContactPoints:
         """Return the points of ``self``'s rows followed by ``other``'s.
 
         Parameters
         ----------
-        other : ProfilePoints
+        other : ContactPoints
             The rows to append; two deferred turns stay deferred.
 
         Returns
         -------
-        ProfilePoints
+        ContactPoints
         """
-        if self.turn_rad is not None and other.turn_rad is not None:
-            mine: tuple[FloatArray, ...] = (
-                self.contact_x_mm,
-                self.contact_y_mm,
-                self.centre_x_mm,
-                self.centre_y_mm,
-                self.turn_rad,
-            )
-            theirs: tuple[FloatArray, ...] = (
-                other.contact_x_mm,
-                other.contact_y_mm,
-                other.centre_x_mm,
-                other.centre_y_mm,
-                other.turn_rad,
-            )
-        else:
-            mine, theirs = self.cam_frame, other.cam_frame
-        return ProfilePoints(*(np.concatenate([a, b]) for a, b in zip(mine, theirs, strict=True)))
+        a, b = self, other
+        if (a.turn_rad is None) != (b.turn_rad is None):  # one side already turned
+            a, b = ContactPoints(*a.cam_frame), ContactPoints(*b.cam_frame)
+        turn = None
+        if a.turn_rad is not None and b.turn_rad is not None:
+            turn = np.concatenate([a.turn_rad, b.turn_rad])
+        return ContactPoints(
+            np.concatenate([a.contact_x_mm, b.contact_x_mm]),
+            np.concatenate([a.contact_y_mm, b.contact_y_mm]),
+            np.concatenate([a.centre_x_mm, b.centre_x_mm]),
+            np.concatenate([a.centre_y_mm, b.centre_y_mm]),
+            turn,
+        )
 
 
 @dataclass(frozen=True)
@@ -131,7 +126,7 @@ class Kinematics:
         Flat faces: u, signed distance from the face reference point P to A. [mm]
     follower_angle_rad : ndarray or None
         Oscillating followers: ξ. [rad]
-    points : ProfilePoints
+    contact_points : ContactPoints
         Contact point A and instant centre Q; read them in the cam frame as
         ``contact_x_mm``, ``contact_y_mm``, ``centre_x_mm`` and ``centre_y_mm``. [mm]
     """
@@ -147,29 +142,29 @@ class Kinematics:
     pressure_angle_rad: FloatArray
     shift_angle_rad: FloatArray
     curvature_radius_mm: FloatArray
-    points: ProfilePoints
+    contact_points: ContactPoints
     face_contact_mm: FloatArray | None = None
     follower_angle_rad: FloatArray | None = None
 
     @property
     def contact_x_mm(self) -> FloatArray:
         """Abscissa x of the contact point A in the cam frame. [mm]"""
-        return self.points.cam_frame[0]
+        return self.contact_points.cam_frame[0]
 
     @property
     def contact_y_mm(self) -> FloatArray:
         """Ordinate y of the contact point A in the cam frame. [mm]"""
-        return self.points.cam_frame[1]
+        return self.contact_points.cam_frame[1]
 
     @property
     def centre_x_mm(self) -> FloatArray:
         """Abscissa x of the instant centre Q = I23 in the cam frame. [mm]"""
-        return self.points.cam_frame[2]
+        return self.contact_points.cam_frame[2]
 
     @property
     def centre_y_mm(self) -> FloatArray:
         """Ordinate y of the instant centre Q = I23 in the cam frame. [mm]"""
-        return self.points.cam_frame[3]
+        return self.contact_points.cam_frame[3]
 
 
 def analysis_grid(

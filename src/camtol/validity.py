@@ -229,9 +229,9 @@ def _check_single(design: CamDesign) -> None:
             if getattr(kin, f.name) is None
             else np.concatenate([getattr(kin, f.name), getattr(more, f.name)])
             for f in dataclasses.fields(Kinematics)
-            if f.name != "points"
+            if f.name != "contact_points"
         }
-        kin = Kinematics(**joined, points=kin.points.joined(more.points))
+        kin = Kinematics(**joined, contact_points=kin.contact_points.joined(more.contact_points))
     check_geometry(design, kin)
 
 
