@@ -6,7 +6,6 @@ Registered on the ``camtol`` group by :mod:`camtol.cli`. Exit status 0 ok, 2 on 
 
 from __future__ import annotations
 
-import io
 import math
 import sys
 from collections.abc import Callable, Iterator
@@ -139,12 +138,12 @@ def curves_csv(shown: Any) -> str:
     u = s.unit
     cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
     cols += [f"share_{k}" for k in result.shares]
-    buf = io.StringIO()
-    buf.write(",".join(cols) + "\n")
+    import numpy as np
+
+    from camtol.report.csv_text import csv_text
+
     arrays = [result.theta_deg, s.mean, s.std, s.q00135, s.q50, s.q99865, *result.shares.values()]
-    for row in zip(*arrays, strict=True):
-        buf.write(",".join(f"{v:.9g}" for v in row) + "\n")
-    return buf.getvalue()
+    return csv_text(cols, np.column_stack(arrays), digits=9)
 
 
 def _plot(shown: Any, path: str) -> None:

@@ -19,6 +19,7 @@ from camtol.exceptions import ExportError
 from camtol.files import atomic_write
 from camtol.jet import FloatArray
 from camtol.profile import DEFAULT_TOLERANCE_MM, ProfileCurve, ProfilePoints
+from camtol.report.csv_text import csv_text
 
 __all__ = [
     "DEFAULT_TOLERANCE_MM",
@@ -41,8 +42,6 @@ ExportFormat = Literal["csv", "dxf", "svg"]
 # ---------------------------------------------------------------------------------------
 def _csv_text(cols: dict[str, FloatArray]) -> str:
     """One row per cam angle: the columns of :func:`camtol.profile.profile_table`."""
-    from camtol.report.csv_text import csv_text
-
     return csv_text(list(cols), np.column_stack(list(cols.values())), digits=12)
 
 
