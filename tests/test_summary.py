@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -102,3 +103,31 @@ def test_a_pressure_angle_equal_to_its_limit_meets_it(face_deg: float) -> None:
         (row,) = (r for r in _rows(a) if r[0].startswith("pressure angle"))
         assert ("LIMIT" in row[0]) is beyond
         assert (overall_verdict(a, None).status == "FAIL") is beyond
+
+
+def test_radii_that_are_not_finite_count_as_neither_side() -> None:
+    """NaN and ±inf radii of curvature are no minimum; none at all gives (inf, nan)."""
+    d, kin = _kin("roller-translating")
+    theta = kin.theta_rad
+    rho = np.full(theta.shape, np.nan)
+    rho[:3] = (np.inf, -np.inf, np.nan)
+    g = cam_geometry("", d.mechanism, dataclasses.replace(kin, curvature_radius_mm=rho))
+    assert g.min_convex_radius_mm == math.inf and math.isnan(g.min_convex_radius_at_deg)
+    assert g.min_concave_radius_mm == math.inf and math.isnan(g.min_concave_radius_at_deg)
+    rho[[10, 20, 30, 40]] = (5.0, 5.0, -7.0, -7.0)  # ties: the first row is taken
+    g = cam_geometry("", d.mechanism, dataclasses.replace(kin, curvature_radius_mm=rho))
+    assert (g.min_convex_radius_mm, g.min_convex_radius_at_deg) == (5.0, np.degrees(theta[10]))
+    assert (g.min_concave_radius_mm, g.min_concave_radius_at_deg) == (7.0, np.degrees(theta[30]))
+
+
+def test_peaks_are_the_grid_values_in_degrees_bit_for_bit() -> None:
+    """Only the peaks are converted to degrees, with numpy's factor: the same numbers."""
+    d, kin = _kin("roller-oscillating")
+    g = cam_geometry("", d.mechanism, kin)
+    deg, phi = np.degrees(kin.theta_rad), np.degrees(kin.pressure_angle_rad)
+    i, j = int(np.argmax(phi)), int(np.argmin(phi))
+    assert (g.pressure_angle_deg.max, g.pressure_angle_deg.max_at_deg) == (phi[i], deg[i])
+    assert (g.pressure_angle_deg.min, g.pressure_angle_deg.min_at_deg) == (phi[j], deg[j])
+    p = motion_peaks(kin, output="oscillating", omega_rad_s=None)
+    k = int(np.argmax(kin.jerk))
+    assert (p.jerk.max, p.jerk.max_at_deg) == (kin.jerk[k], deg[k])

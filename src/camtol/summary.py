@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, beyond_pressure_angle_limit
@@ -33,6 +32,9 @@ __all__ = [
     "lift_table_precision",
     "motion_peaks",
 ]
+
+#: Degrees per radian: the factor of ``np.degrees`` and ``math.degrees``, bit for bit.
+_DEG_PER_RAD = 180.0 / math.pi
 
 #: Standard gravity, for accelerations quoted in g. [m/s²]
 STANDARD_GRAVITY = 9.80665
@@ -76,9 +78,19 @@ class Peak:
         return Peak(self.max * factor, self.min * factor, self.max_at_deg, self.min_at_deg)
 
 
-def _peak(values: FloatArray, theta_deg: FloatArray) -> Peak:
+def _peak(values: FloatArray, theta_rad: FloatArray, *, scale: float = 1.0) -> Peak:
+    """Max and min of ``values`` × ``scale`` (> 0) and their angles in degrees.
+
+    Only the two values found are scaled and converted (``math.degrees`` is numpy's
+    ``degrees``, bit for bit), not the whole grid.
+    """
     i, j = int(np.argmax(values)), int(np.argmin(values))
-    return Peak(float(values[i]), float(values[j]), float(theta_deg[i]), float(theta_deg[j]))
+    return Peak(
+        float(values[i]) * scale,
+        float(values[j]) * scale,
+        math.degrees(theta_rad[i]),
+        math.degrees(theta_rad[j]),
+    )
 
 
 @dataclass(frozen=True)
@@ -139,12 +151,12 @@ def motion_peaks(
     MotionPeaks
         Per-radian peaks, convertible to time derivatives with :meth:`MotionPeaks.at_speed`.
     """
-    deg = np.degrees(kin.theta_rad)
+    theta = kin.theta_rad
     return MotionPeaks(
         output,
-        _peak(kin.velocity, deg),
-        _peak(kin.acceleration, deg),
-        _peak(kin.jerk, deg),
+        _peak(kin.velocity, theta),
+        _peak(kin.acceleration, theta),
+        _peak(kin.jerk, theta),
         omega_rad_s,
     )
 
@@ -202,12 +214,15 @@ class CamGeometry:
         )
 
 
-def _min_where(mask: NDArray[np.bool_], values: FloatArray, deg: FloatArray) -> tuple[float, float]:
-    if not np.any(mask):
+def _smallest(values: FloatArray, theta_rad: FloatArray) -> tuple[float, float]:
+    """Smallest finite value and its angle in degrees, or (inf, nan) if there is none.
+
+    ``values`` holds +inf where a row does not count; the first smallest row is taken.
+    """
+    i = int(np.argmin(values))
+    if not values[i] < math.inf:  # no finite value (NaN rows were made +inf)
         return math.inf, math.nan
-    v = np.where(mask, values, np.inf)
-    i = int(np.argmin(v))
-    return float(v[i]), float(deg[i])
+    return float(values[i]), math.degrees(theta_rad[i])
 
 
 def cam_geometry(
@@ -235,11 +250,10 @@ def cam_geometry(
     CamGeometry
         Pressure-angle range, smallest convex and concave radii with their angles, undercut.
     """
-    deg = np.degrees(kin.theta_rad)
-    rho = kin.curvature_radius_mm
-    finite = np.isfinite(rho)
-    convex, convex_at = _min_where(finite & (rho > 0), rho, deg)
-    concave, concave_at = _min_where(finite & (rho < 0), -rho, deg)
+    theta, rho = kin.theta_rad, kin.curvature_radius_mm
+    # A comparison with NaN is False: NaN rows count as neither side, as ±inf ones.
+    convex, convex_at = _smallest(np.where(rho > 0.0, rho, np.inf), theta)
+    concave, concave_at = _smallest(np.where(rho < 0.0, -rho, np.inf), theta)
     roller = getattr(mechanism, "roller_radius_mm", None)
     if roller is None:
         convex_limit = "a flat face needs ρ > 0 everywhere (cusp or undercut otherwise)"
@@ -258,7 +272,7 @@ def cam_geometry(
     return CamGeometry(
         label=label,
         max_radius_mm=float(np.nanmax(kin.radius_mm)),
-        pressure_angle_deg=_peak(np.degrees(kin.pressure_angle_rad), deg),
+        pressure_angle_deg=_peak(kin.pressure_angle_rad, theta, scale=_DEG_PER_RAD),
         pressure_angle_limit_deg=pressure_angle_limit_deg,
         min_convex_radius_mm=convex,
         min_convex_radius_at_deg=convex_at,
