@@ -9,7 +9,8 @@ import pytest
 
 from camtol.analysis import analyse
 from camtol.config import example_names, load_example
-from camtol.kinematics import ContactPoints
+from camtol.engine import evaluate_engine
+from camtol.kinematics import ContactPoints, analysis_grid
 
 RNG = np.random.default_rng(11)
 
@@ -46,6 +47,42 @@ def test_joined_points_are_the_rows_of_both(other_turned: bool) -> None:
     assert (j.turn_rad is not None) == other_turned  # two deferred turns stay deferred
     for got, first, second in zip(j.cam_frame, a.cam_frame, b.cam_frame, strict=True):
         np.testing.assert_array_equal(got, np.concatenate([first, second]))
+
+
+def test_stored_rows_are_spread_over_the_rows_that_repeat_them() -> None:
+    rows = np.array([True, False, False, True, True, False, True])
+    xa, ya, xq = RNG.uniform(-60.0, 60.0, (3, 4))
+    yq = np.broadcast_to(0.0, (4,))  # a constant stays a constant
+    turn = RNG.uniform(0.0, 2.0 * np.pi, rows.size)
+    p = ContactPoints(xa, ya, xq, yq, turn_rad=turn, rows=rows)
+    index = [0, 0, 0, 1, 2, 2, 3]
+    full = ContactPoints(xa[index], ya[index], xq[index], np.zeros(rows.size), turn_rad=turn)
+    for got, want in zip(p.cam_frame, full.cam_frame, strict=True):
+        np.testing.assert_array_equal(got, want)
+    j = p.joined(_frame_points(3))
+    assert j.rows is None and j.turn_rad is not None
+    for got, first in zip(j.cam_frame, full.cam_frame, strict=True):
+        np.testing.assert_array_equal(got[: rows.size], first)
+
+
+@pytest.mark.parametrize("name", example_names())
+def test_dwells_store_their_points_once_and_read_the_same(name: str) -> None:
+    """A dwell's points are stored once; read, they are those of every row, bit for bit."""
+    for cam in load_example(name).cams():
+        theta, left = analysis_grid(0.1, cam.design.program.boundaries_rad)
+        stored, _ = evaluate_engine(cam.design, theta, left, check=False, sensitivities=False)
+        # Chunks shorter than 1024 rows are evaluated row by row, dwells included.
+        every, _ = evaluate_engine(cam.design, theta, left, check=False, chunk=1_000)
+        assert every.contact_points.rows is None
+        rows = stored.contact_points.rows
+        if rows is not None:  # the cam dwells (popa-eccentric has no dwell)
+            assert stored.contact_points.contact_x_mm.size == np.count_nonzero(rows) < rows.size
+        else:
+            assert stored.contact_points.contact_x_mm.size == theta.size
+        for got, want in zip(
+            stored.contact_points.cam_frame, every.contact_points.cam_frame, strict=True
+        ):
+            np.testing.assert_array_equal(got, want)
 
 
 @pytest.mark.parametrize("name", example_names())

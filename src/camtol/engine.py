@@ -45,11 +45,10 @@ CHUNK = 16_384
 #: intermediate arrays, and one call on 36,001 angles costs less than three.
 MOTION_CHUNKS = 4
 
+#: The contact point A and the instant centre Q (:class:`~camtol.kinematics.ContactPoints`).
+_POINTS = ("contact_x", "contact_y", "centre_x", "centre_y")
 _GEOMETRY = (
-    "contact_x",
-    "contact_y",
-    "centre_x",
-    "centre_y",
+    *_POINTS,
     "q",
     "pressure_angle",
     "shift_angle",
@@ -181,7 +180,9 @@ def _motion_quantities(
     *,
     sources: bool = True,
     derivatives: bool = True,
-) -> tuple[dict[str, JetLike], dict[str, JetLike], NDArray[np.intp] | None]:
+) -> tuple[
+    dict[str, JetLike], dict[str, JetLike], NDArray[np.intp] | None, NDArray[np.bool_] | None
+]:
     """Contact geometry with ρ, and lean sensitivities (unless not ``sources``), of a chunk.
 
     ``state`` is (θ, S, V, A, J) of the chunk; the sensitivities are jets, or plain values
@@ -191,17 +192,17 @@ def _motion_quantities(
     (:class:`~camtol.kinematics.ContactPoints`).
 
     With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
-    state are not evaluated: the values hold the evaluated rows only and the returned
-    index gives each row of the chunk its evaluated row (None: every row evaluated).
-    The same numbers, a dwell costing one row.
+    state are not evaluated: the values hold the evaluated rows only, the returned
+    index gives each row of the chunk its evaluated row and the mask marks the evaluated
+    rows (both None: every row evaluated). The same numbers, a dwell costing one row.
     """
     t, s, v, acc, jerk = state
-    index = None
+    index = evaluated = None
     if repeats is not None and repeats.size >= 1024:  # shorter: bookkeeping ≈ saving
         fresh = ~repeats
         fresh[0] = True
         if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
-            keep = np.flatnonzero(fresh)
+            keep, evaluated = np.flatnonzero(fresh), fresh
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
             t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
     geometry = _geometry_values(
@@ -212,7 +213,7 @@ def _motion_quantities(
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     elif sources:
         out = dict(mech.error_sensitivities(t, s, v))
-    return geometry, out, index
+    return geometry, out, index, evaluated
 
 
 def _geometry_values(
@@ -315,6 +316,11 @@ def evaluate_engine(
     # Rows whose motion state repeats the previous row's (dwells): what depends on the
     # motion alone is evaluated once per run of them.
     repeats = _repeated_states(motion) if mech.motion_only and not shared else None
+    # Their points are stored once per evaluated row too, and spread (and turned into
+    # the cam frame) when first read: an analysis never reads them.
+    points = _Columns(n) if repeats is not None else cols
+    stored = 0  # rows of ``points`` written
+    rows = np.ones(n, bool) if repeats is not None else None
     chunk_sens: dict[str, JetLike]
     for a in range(0, n, max(int(chunk), 1)):
         at = slice(a, min(n, a + chunk))
@@ -327,7 +333,7 @@ def evaluate_engine(
             th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
         else:
             th, lift, vel = t, s, v
-        index = None
+        index = evaluated = None
         # A follower's formulas take the sine and cosine of the same angles several
         # times (an oscillating arm's angle): once per chunk.
         with jet.reused_sincos():
@@ -336,7 +342,7 @@ def evaluate_engine(
                 chunk_sens = dict(mech.sensitivities(g, th))
                 values = _geometry_values(mech, g, (t, s, v, acc))
             else:
-                values, chunk_sens, index = _motion_quantities(
+                values, chunk_sens, index, evaluated = _motion_quantities(
                     mech,
                     (t, s, v, acc, jerk),
                     None if repeats is None else repeats[at],
@@ -356,9 +362,17 @@ def evaluate_engine(
                 plain.add(key)
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
         q_is_velocity = "q" not in values
+        if rows is not None:
+            m = at.stop - at.start if index is None else int(index[-1]) + 1
+            if evaluated is not None:
+                rows[at] = evaluated
+            chunk_points = {k: _full_length(values.pop(k), (m,)) for k in _POINTS}
+            points.put_chunk(chunk_points, slice(stored, stored + m))
+            stored += m
         cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at, index)
         del chunk_sens, values
     c = cols
+    xa, ya, xq, yq = (points[k] if rows is None else points[k][:stored] for k in _POINTS)
     kin = Kinematics(
         theta_rad=theta,
         left_limit=left,
@@ -371,13 +385,15 @@ def evaluate_engine(
         pressure_angle_rad=c["pressure_angle"],
         shift_angle_rad=c["shift_angle"],
         curvature_radius_mm=c["curvature_radius"],
-        # A motion-only mechanism's points are in the frame of the line of centres.
+        # A motion-only mechanism's points are in the frame of the line of centres,
+        # one per evaluated row.
         contact_points=ContactPoints(
-            c["contact_x"],
-            c["contact_y"],
-            c["centre_x"],
-            c["centre_y"],
-            theta if mech.motion_only and not shared else None,
+            xa,
+            ya,
+            xq,
+            yq,
+            turn_rad=None if rows is None else theta,
+            rows=None if stored == n else rows,
         ),
         face_contact_mm=c.get("face_contact"),
         follower_angle_rad=c.get("follower_angle"),

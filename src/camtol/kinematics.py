@@ -44,15 +44,19 @@ class ContactPoints:
     the line of centres (θ = 0, THEORY §0) and turned by θ into the cam frame on first
     use (kinematic inversion): an analysis that never reads the profile does not pay for
     the turn, a sine and a cosine of every grid angle, the dearest step of such a cam.
-    The turned points are those the formulas give at θ, bit for bit (tests).
+    Nor for spreading a dwell's one stored row over the dwell's angles (``rows``).
+    The points read are those the formulas give at θ, bit for bit (tests).
 
     Attributes
     ----------
     contact_x_mm, contact_y_mm, centre_x_mm, centre_y_mm : ndarray
         A and Q as computed: in the cam frame, or in the frame of the line of centres
-        when ``turn_rad`` is given. [mm]
+        when ``turn_rad`` is given; one value per stored row when ``rows`` is given. [mm]
     turn_rad : ndarray or None
         The angles θ to turn each row by into the cam frame (None: already there). [rad]
+    rows : ndarray of bool or None
+        True at the grid rows whose points are stored, False at a row that repeats the
+        stored row before it (a dwell, evaluated once); None: every row is stored.
     """
 
     contact_x_mm: FloatArray
@@ -60,11 +64,24 @@ class ContactPoints:
     centre_x_mm: FloatArray
     centre_y_mm: FloatArray
     turn_rad: FloatArray | None = None
+    rows: NDArray[np.bool_] | None = None
+
+    def _spread(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Return the four arrays with one value per grid row (stored rows spread)."""
+        points = (self.contact_x_mm, self.contact_y_mm, self.centre_x_mm, self.centre_y_mm)
+        if self.rows is None:
+            return points
+        index = np.cumsum(self.rows) - 1  # grid row -> its stored row
+        n = self.rows.shape
+        xa, ya, xq, yq = (
+            np.broadcast_to(p[:1], n) if p.strides == (0,) else np.take(p, index) for p in points
+        )
+        return xa, ya, xq, yq
 
     @cached_property
     def cam_frame(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """Return (x_A, y_A, x_Q, y_Q) in the cam frame, turned once and kept. [mm]"""
-        xa, ya, xq, yq = self.contact_x_mm, self.contact_y_mm, self.centre_x_mm, self.centre_y_mm
+        xa, ya, xq, yq = self._spread()
         if self.turn_rad is None:
             return xa, ya, xq, yq
         c, s = np.cos(self.turn_rad), np.sin(self.turn_rad)
@@ -81,6 +98,7 @@ class ContactPoints:
         Returns
         -------
         ContactPoints
+            Every row stored (``rows`` None).
         """
         a, b = self, other
         if (a.turn_rad is None) != (b.turn_rad is None):  # one side already turned
@@ -88,13 +106,10 @@ class ContactPoints:
         turn = None
         if a.turn_rad is not None and b.turn_rad is not None:
             turn = np.concatenate([a.turn_rad, b.turn_rad])
-        return ContactPoints(
-            np.concatenate([a.contact_x_mm, b.contact_x_mm]),
-            np.concatenate([a.contact_y_mm, b.contact_y_mm]),
-            np.concatenate([a.centre_x_mm, b.centre_x_mm]),
-            np.concatenate([a.centre_y_mm, b.centre_y_mm]),
-            turn,
+        xa, ya, xq, yq = (
+            np.concatenate(pair) for pair in zip(a._spread(), b._spread(), strict=True)
         )
+        return ContactPoints(xa, ya, xq, yq, turn_rad=turn)
 
 
 @dataclass(frozen=True)
