@@ -10,13 +10,15 @@ import math
 import numpy as np
 import pytest
 
+import camtol.engine as engine_module
 from camtol.analysis import analyse
 from camtol.config import example_names, load_example
-from camtol.engine import evaluate_engine
+from camtol.engine import evaluate_engine, shared_dwells
 from camtol.errors import error_analysis
 from camtol.extremes import find_extremes
 from camtol.jet import Jet
 from camtol.kinematics import analysis_grid, kinematics
+from camtol.motion import MotionState
 
 EXAMPLES = example_names()
 FIELDS = (
@@ -381,3 +383,34 @@ def test_a_design_without_tolerances_has_no_accuracy_grade() -> None:
     toleranced = analyse(load_example("cw11-conjugate"), step_deg=1.0)
     assert toleranced.accuracy is not None
     assert accuracy_words(toleranced.accuracy) == toleranced.accuracy.describe()
+
+
+def test_the_cams_of_a_pair_find_their_dwells_once_with_the_same_numbers(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Inside ``shared_dwells`` cam B takes cam A's dwells: found once, the same numbers."""
+    pair = load_example("cw11-conjugate")
+    a, b = (c.design for c in pair.cams())
+    theta, left = analysis_grid(0.05, pair.program.boundaries_rad)
+    alone_a, _ = evaluate_engine(a, theta, left, check=False)
+    motion = MotionState(alone_a.lift, alone_a.velocity, alone_a.acceleration, alone_a.jerk)
+    alone_b = kinematics(b, theta, left_limit=left, check=False, motion=motion)
+    found: list[int] = []
+    repeated = engine_module._repeated_states
+
+    def counted(m: MotionState) -> np.ndarray:
+        found.append(m.lift.size)
+        return repeated(m)
+
+    monkeypatch.setattr(engine_module, "_repeated_states", counted)
+    with shared_dwells():
+        kin_a, _ = evaluate_engine(a, theta, left, check=False, motion=motion)
+        kin_b = kinematics(b, theta, left_limit=left, check=False, motion=motion)
+        # Another grid is not confused with the first.
+        kinematics(b, theta[::2].copy(), left_limit=left[::2], check=False)
+    assert found == [theta.size, theta[::2].size]
+    for ours, alone in ((kin_a, alone_a), (kin_b, alone_b)):
+        for field in ("radius_mm", "q_mm", "pressure_angle_rad", "curvature_radius_mm"):
+            np.testing.assert_array_equal(getattr(ours, field), getattr(alone, field))
+        np.testing.assert_array_equal(ours.contact_x_mm, alone.contact_x_mm)
+    assert kin_b.contact_points.rows is not None  # the pair dwells: the rows were shared

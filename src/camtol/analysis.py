@@ -9,6 +9,7 @@ per second at the design's cam speed) are the report layer's business
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 from collections.abc import Callable, Iterator, Mapping
@@ -19,7 +20,7 @@ import numpy as np
 
 from camtol import iso286
 from camtol.design import CamDesign, ResolvedTolerance
-from camtol.engine import evaluate_engine
+from camtol.engine import evaluate_engine, shared_dwells
 from camtol.errors import ErrorAnalysis, errors_from_sensitivities
 from camtol.extremes import Extreme, find_extremes, overflow_error, scaled_extremes
 from camtol.grid import check_step
@@ -468,14 +469,16 @@ def analyze(design: CamDesign, *, step_deg: float = DEFAULT_STEP_DEG) -> Analysi
         sources={"r", *(t.key for t in cam.tolerances)},
         derivatives=bool(cam.tolerances),
     )
-    kin, sens = engine(theta, left)
-    motion = MotionState(kin.lift, kin.velocity, kin.acceleration, kin.jerk)  # every cam's
-    # Further cams share cam A's motion; check_design_geometry checked them above, as
-    # it did cam A, on a grid refined at each criterion's worst point (any grid passes).
-    others = tuple(
-        (c.label, kinematics(c.design, theta, left_limit=left, check=False, motion=motion))
-        for c in cams[1:]
-    )
+    # Further cams share cam A's motion, and so its dwells (found once); the geometry
+    # check above checked them as it did cam A, on a grid refined at each criterion's
+    # worst point (any grid passes).
+    with shared_dwells() if len(cams) > 1 else contextlib.nullcontext():
+        kin, sens = engine(theta, left)
+        motion = MotionState(kin.lift, kin.velocity, kin.acceleration, kin.jerk)  # every cam's
+        others = tuple(
+            (c.label, kinematics(c.design, theta, left_limit=left, check=False, motion=motion))
+            for c in cams[1:]
+        )
     # Tolerances from the grid's largest radius, confirmed below with the refined one.
     tolerances = cam.resolve_tolerances(float(np.nanmax(kin.radius_mm)))
     while True:

@@ -23,7 +23,9 @@ of intermediate steps.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection
+from collections.abc import Collection, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -36,7 +38,7 @@ from camtol.mechanisms.base import ContactGeometry, Mechanism
 from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
 
-__all__ = ["CHUNK", "evaluate_engine"]
+__all__ = ["CHUNK", "evaluate_engine", "shared_dwells"]
 
 #: Angles per chunk: a few dozen intermediate arrays of this length fit in a core's cache.
 CHUNK = 16_384
@@ -173,38 +175,108 @@ def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
     return same
 
 
-def _motion_quantities(
-    mech: Mechanism,
-    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
-    repeats: NDArray[np.bool_] | None,
-    *,
-    sources: bool = True,
-    derivatives: bool = True,
-) -> tuple[
-    dict[str, JetLike], dict[str, JetLike], NDArray[np.intp] | None, NDArray[np.bool_] | None
-]:
-    """Contact geometry with ρ, and lean sensitivities (unless not ``sources``), of a chunk.
+#: (θ, S, V, A, J) of a chunk of the grid, or of its evaluated rows.
+_State = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+#: A chunk: its rows of the grid, the state at the rows evaluated, each row's evaluated
+#: row and the mask of evaluated rows (both None: every row is evaluated).
+_Chunk = tuple[slice, _State, NDArray[np.intp] | None, NDArray[np.bool_] | None]
 
-    ``state`` is (θ, S, V, A, J) of the chunk; the sensitivities are jets, or plain values
-    without ``derivatives``. The geometry of a
-    :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
-    centres, THEORY §0): its points are turned to the chunk's angles when first read
-    (:class:`~camtol.kinematics.ContactPoints`).
+#: Inside a :func:`shared_dwells` block: the chunks found for each grid and motion
+#: ((θ, S, V, A, J) arrays, chunk size, chunks).
+_SHARED_DWELLS: ContextVar[list[tuple[_State, int, list[_Chunk]]] | None] = ContextVar(
+    "camtol_shared_dwells", default=None
+)
 
-    With ``repeats`` (a motion-only mechanism), rows that repeat the previous motion
-    state are not evaluated: the values hold the evaluated rows only, the returned
-    index gives each row of the chunk its evaluated row and the mask marks the evaluated
-    rows (both None: every row evaluated). The same numbers, a dwell costing one row.
+
+@contextmanager
+def shared_dwells() -> Iterator[None]:
+    """Within the block, cams on the same grid and motion find their dwells once.
+
+    The cams of a conjugate pair share one follower, hence one motion: which rows repeat
+    the motion state before them, and the state at the rows evaluated, are the same for
+    both cams. Inside the block the engine keeps them for the grid and motion arrays it
+    was given (the same objects, the same chunk size) and the next cam's evaluation
+    takes them instead of finding them again. The kept arrays are read-only.
+
+    Yields
+    ------
+    None
     """
-    t, s, v, acc, jerk = state
-    index = evaluated = None
-    if repeats is not None and repeats.size >= 1024:  # shorter: bookkeeping ≈ saving
+    token = _SHARED_DWELLS.set([])
+    try:
+        yield
+    finally:
+        _SHARED_DWELLS.reset(token)
+
+
+def _chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterator[_Chunk]:
+    """Yield the grid in chunks of ``chunk`` rows, every row evaluated."""
+    grid = (theta, motion.lift, motion.velocity, motion.acceleration, motion.jerk)
+    for a in range(0, theta.size, chunk):
+        at = slice(a, min(theta.size, a + chunk))
+        t, s, v, acc, jerk = (x[at] for x in grid)
+        yield at, (t, s, v, acc, jerk), None, None
+
+
+def _dwell_chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterator[_Chunk]:
+    """Yield the grid in chunks of ``chunk`` rows, repeated motion states evaluated once.
+
+    Rows that repeat the previous row's motion state (a dwell) are not evaluated: the
+    chunk's state holds the evaluated rows only, its index gives each row its evaluated
+    row. Inside :func:`shared_dwells`, the chunks of the same grid and motion are found
+    once.
+    """
+    grid = (theta, motion.lift, motion.velocity, motion.acceleration, motion.jerk)
+    kept = _SHARED_DWELLS.get()
+    for arrays, size, chunks in kept or ():
+        if size == chunk and all(a is b for a, b in zip(arrays, grid, strict=True)):
+            yield from chunks
+            return
+    repeats = _repeated_states(motion)
+    found: list[_Chunk] = []
+    for a in range(0, theta.size, chunk):
+        at = slice(a, min(theta.size, a + chunk))
+        t, s, v, acc, jerk = (x[at] for x in grid)
+        item = (at, *_evaluated_rows((t, s, v, acc, jerk), repeats[at]))
+        found.append(item)
+        yield item
+    if kept is not None:
+        kept.append((grid, chunk, found))
+
+
+def _evaluated_rows(
+    state: _State, repeats: NDArray[np.bool_]
+) -> tuple[_State, NDArray[np.intp] | None, NDArray[np.bool_] | None]:
+    """Return a chunk's state at the rows to evaluate, each row's evaluated row, the mask."""
+    if repeats.size >= 1024:  # shorter: bookkeeping ≈ saving
         fresh = ~repeats
         fresh[0] = True
         if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
-            keep, evaluated = np.flatnonzero(fresh), fresh
+            keep = np.flatnonzero(fresh)
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
-            t, s, v, acc, jerk = t[keep], s[keep], v[keep], acc[keep], jerk[keep]
+            t, s, v, acc, jerk = (x[keep] for x in state)
+            for x in (t, s, v, acc, jerk, index, fresh):
+                x.flags.writeable = False  # shared by the cams of a pair
+            return (t, s, v, acc, jerk), index, fresh
+    return state, None, None
+
+
+def _motion_quantities(
+    mech: Mechanism,
+    state: _State,
+    *,
+    sources: bool = True,
+    derivatives: bool = True,
+) -> tuple[dict[str, JetLike], dict[str, JetLike]]:
+    """Contact geometry with ρ, and lean sensitivities (unless not ``sources``), of a chunk.
+
+    ``state`` is (θ, S, V, A, J) of the rows evaluated; the sensitivities are jets, or
+    plain values without ``derivatives``. The geometry of a
+    :attr:`Mechanism.motion_only` mechanism is taken at θ = 0 (the frame of the line of
+    centres, THEORY §0): its points are turned to the chunk's angles when first read
+    (:class:`~camtol.kinematics.ContactPoints`).
+    """
+    t, s, v, acc, jerk = state
     geometry = _geometry_values(
         mech, mech.contact(0.0 if mech.motion_only else t, s, v), (t, s, v, acc)
     )
@@ -213,7 +285,7 @@ def _motion_quantities(
         out = dict(mech.error_sensitivities(Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)))
     elif sources:
         out = dict(mech.error_sensitivities(t, s, v))
-    return geometry, out, index, evaluated
+    return geometry, out
 
 
 def _geometry_values(
@@ -315,17 +387,19 @@ def evaluate_engine(
     q_is_velocity = False
     # Rows whose motion state repeats the previous row's (dwells): what depends on the
     # motion alone is evaluated once per run of them.
-    repeats = _repeated_states(motion) if mech.motion_only and not shared else None
+    dwells = mech.motion_only and not shared
     # Their points are stored once per evaluated row too, and spread (and turned into
     # the cam frame) when first read: an analysis never reads them.
-    points = _Columns(n) if repeats is not None else cols
+    points = _Columns(n) if dwells else cols
     stored = 0  # rows of ``points`` written
-    rows = np.ones(n, bool) if repeats is not None else None
+    rows = np.ones(n, bool) if dwells else None
     chunk_sens: dict[str, JetLike]
-    for a in range(0, n, max(int(chunk), 1)):
-        at = slice(a, min(n, a + chunk))
-        t, s, v = theta[at], motion.lift[at], motion.velocity[at]
-        acc, jerk = motion.acceleration[at], motion.jerk[at]
+    step = max(int(chunk), 1)
+    chunks = _dwell_chunks(theta, motion, step) if dwells else _chunks(theta, motion, step)
+    for at, evaluated_state, index, evaluated in chunks:
+        t, s, v, acc, jerk = (
+            x[at] for x in (theta, motion.lift, motion.velocity, motion.acceleration, motion.jerk)
+        )
         th: JetLike
         lift: JetLike
         vel: JetLike
@@ -333,7 +407,6 @@ def evaluate_engine(
             th, lift, vel = Jet.variable(t), Jet(s, v, acc), Jet(v, acc, jerk)
         else:
             th, lift, vel = t, s, v
-        index = evaluated = None
         # A follower's formulas take the sine and cosine of the same angles several
         # times (an oscillating arm's angle): once per chunk.
         with jet.reused_sincos():
@@ -342,10 +415,9 @@ def evaluate_engine(
                 chunk_sens = dict(mech.sensitivities(g, th))
                 values = _geometry_values(mech, g, (t, s, v, acc))
             else:
-                values, chunk_sens, index, evaluated = _motion_quantities(
+                values, chunk_sens = _motion_quantities(
                     mech,
-                    (t, s, v, acc, jerk),
-                    None if repeats is None else repeats[at],
+                    evaluated_state,
                     sources=sensitivities,
                     derivatives=derivatives,
                 )
