@@ -120,6 +120,14 @@ def test_missing_and_malformed_files(tmp_path: Path) -> None:
     bad.write_text("name = 'x'\n[follower\n")
     with pytest.raises(ConfigError, match=r"is not valid TOML"):
         load_design(bad)
+    incomplete = tmp_path / "incomplete.toml"
+    incomplete.write_text('[follower]\ntype = "flat_translating"\n')
+    # Every field at fault, and the file they are missing from.
+    with pytest.raises(ConfigError, match=r"^design file '.*incomplete.toml': name is missing"):
+        load_design(incomplete)
+    with pytest.raises(ConfigError) as caught:
+        load_design(incomplete)
+    assert "motion is missing" in str(caught.value)
 
 
 def test_lift_table_from_csv(tmp_path: Path) -> None:

@@ -516,7 +516,12 @@ def load_design(path: str | Path) -> CamDesign:
     from camtol.textfile import read_text
 
     text = read_text(p, what="design file", error=ConfigError, max_bytes=16 * 2**20)
-    return design_from_mapping(_parse_toml(text, f"design file {str(p)!r}"), base_dir=p.parent)
+    where = f"design file {str(p)!r}"
+    data = _parse_toml(text, where)
+    try:
+        return design_from_mapping(data, base_dir=p.parent)
+    except DesignError as exc:  # name the file: a shell script may load several
+        raise type(exc)(f"{where}: {exc}") from None
 
 
 def load_example(name: str) -> CamDesign:
