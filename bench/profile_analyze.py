@@ -17,6 +17,7 @@ with the smallest total is reported. [ms]
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 import warnings
@@ -103,9 +104,26 @@ def profile(name: str, angles: int, repeat: int) -> dict[str, float]:
 
 def main(argv: list[str]) -> None:
     """Print the stage table for the designs and grid size of ``argv``."""
+    parser = argparse.ArgumentParser(
+        prog="profile_analyze.py", description="Where analyse() spends its time, by stage."
+    )
+    parser.add_argument(
+        "words",
+        nargs="*",
+        metavar="[ANGLES] DESIGN",
+        help="grid size (default 36,001), then built-in designs (default: all)",
+    )
+    words = parser.parse_args(argv).words
+    angles = 36_001
+    if words and words[0].isdigit():
+        angles = int(words.pop(0))
+    if angles < 2:
+        parser.error(f"ANGLES must be at least 2, got {angles}")
+    unknown = sorted(set(words) - set(example_names()))
+    if unknown:
+        parser.error(f"no built-in design {unknown}; choose from {', '.join(example_names())}")
     warnings.simplefilter("ignore")  # pressure-angle warnings of demonstration designs
-    angles = int(argv[0]) if argv else 36_001
-    names = argv[1:] or example_names()
+    names = words or example_names()
     repeat = 20 if angles <= 40_000 else 5
     print(f"analyse at {angles:,} angles, best of {repeat}: stage times [ms]")
     print(f"{'design':<20} {'total':>8}" + "".join(f" {s:>13}" for s in STAGES))
