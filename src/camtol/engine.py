@@ -177,9 +177,9 @@ def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
 
 #: (θ, S, V, A, J) of a chunk of the grid, or of its evaluated rows.
 _State = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-#: A chunk: its rows of the grid, the state at the rows evaluated, each row's evaluated
-#: row and the mask of evaluated rows (both None: every row is evaluated).
-_Chunk = tuple[slice, _State, NDArray[np.intp] | None, NDArray[np.bool_] | None]
+#: A chunk: its rows of the grid, its state, the state at the rows evaluated, each row's
+#: evaluated row and the mask of evaluated rows (both None: every row is evaluated).
+_Chunk = tuple[slice, _State, _State, NDArray[np.intp] | None, NDArray[np.bool_] | None]
 
 #: Inside a :func:`shared_dwells` block: the chunks found for each grid and motion
 #: ((θ, S, V, A, J) arrays, chunk size, chunks).
@@ -215,7 +215,7 @@ def _chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterator[_Chu
     for a in range(0, theta.size, chunk):
         at = slice(a, min(theta.size, a + chunk))
         t, s, v, acc, jerk = (x[at] for x in grid)
-        yield at, (t, s, v, acc, jerk), None, None
+        yield at, (t, s, v, acc, jerk), (t, s, v, acc, jerk), None, None
 
 
 def _dwell_chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterator[_Chunk]:
@@ -234,10 +234,8 @@ def _dwell_chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterato
             return
     repeats = _repeated_states(motion)
     found: list[_Chunk] = []
-    for a in range(0, theta.size, chunk):
-        at = slice(a, min(theta.size, a + chunk))
-        t, s, v, acc, jerk = (x[at] for x in grid)
-        item = (at, *_evaluated_rows((t, s, v, acc, jerk), repeats[at]))
+    for at, state, _, _, _ in _chunks(theta, motion, chunk):
+        item = (at, state, *_evaluated_rows(state, repeats[at]))
         found.append(item)
         yield item
     if kept is not None:
@@ -396,10 +394,7 @@ def evaluate_engine(
     chunk_sens: dict[str, JetLike]
     step = max(int(chunk), 1)
     chunks = _dwell_chunks(theta, motion, step) if dwells else _chunks(theta, motion, step)
-    for at, evaluated_state, index, evaluated in chunks:
-        t, s, v, acc, jerk = (
-            x[at] for x in (theta, motion.lift, motion.velocity, motion.acceleration, motion.jerk)
-        )
+    for at, (t, s, v, acc, jerk), evaluated_state, index, evaluated in chunks:
         th: JetLike
         lift: JetLike
         vel: JetLike
@@ -435,7 +430,7 @@ def evaluate_engine(
                 values[f"s:{key}"] = np.asarray(x, dtype=float)
         q_is_velocity = "q" not in values
         if rows is not None:
-            m = at.stop - at.start if index is None else int(index[-1]) + 1
+            m = evaluated_state[0].shape[0]  # rows evaluated
             if evaluated is not None:
                 rows[at] = evaluated
             chunk_points = {k: _full_length(values.pop(k), (m,)) for k in _POINTS}
