@@ -414,3 +414,42 @@ def test_the_cams_of_a_pair_find_their_dwells_once_with_the_same_numbers(
             np.testing.assert_array_equal(getattr(ours, field), getattr(alone, field))
         np.testing.assert_array_equal(ours.contact_x_mm, alone.contact_x_mm)
     assert kin_b.contact_points.rows is not None  # the pair dwells: the rows were shared
+
+
+@pytest.mark.parametrize("kind", ["dwells", "scattered"])
+def test_spreading_by_runs_is_the_gather(kind: str) -> None:
+    """A chunk's evaluated rows spread by slices (runs) or by a gather: the same rows."""
+    rng = np.random.default_rng(11)
+    n = 5000
+    if kind == "dwells":  # two dwells and the chunk's last row repeating
+        repeats = np.zeros(n, bool)
+        repeats[1201:2000] = repeats[3001:3500] = repeats[-1] = True
+    else:  # many short repeats: too many runs, spread by the gather
+        repeats = rng.random(n) < 0.3
+    fresh = ~repeats
+    fresh[0] = True
+    index = np.cumsum(fresh) - 1
+    runs = engine_module._runs(fresh, index)
+    assert (runs is None) == (kind == "scattered")
+    values = rng.random(int(fresh.sum()))
+    for spread in (engine_module._Spread(index, runs), engine_module._Spread(index, None)):
+        out = np.full(n, np.nan)
+        engine_module._write(out, values, spread)
+        np.testing.assert_array_equal(out, values[index])
+
+
+def test_a_dwells_rows_spread_by_gather_or_runs_give_the_same_engine(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    design = load_example("roller-oscillating")
+    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
+    runs, s_runs = evaluate_engine(design, theta, left)
+    monkeypatch.setattr(engine_module, "_ROWS_PER_RUN", 10**9)  # always the gather
+    gather, s_gather = evaluate_engine(design, theta, left)
+    for f in FIELDS:
+        a, b = getattr(runs, f), getattr(gather, f)
+        if a is not None:
+            np.testing.assert_array_equal(a, b, err_msg=f)
+    for key in s_runs:
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_array_equal(getattr(s_runs[key], part), getattr(s_gather[key], part))

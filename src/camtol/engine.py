@@ -26,6 +26,7 @@ import math
 from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -74,17 +75,16 @@ class _Columns:
         self,
         values: dict[str, FloatArray],
         where: slice,
-        index: NDArray[np.intp] | None = None,
+        spread: _Spread | None = None,
     ) -> None:
         """Write one chunk of every quantity (the first chunk also classifies them).
 
-        With ``index``, a value shorter than the chunk holds the chunk's evaluated rows
-        only (dwells compressed); row ``i`` of the chunk is its row ``index[i]``, spread
-        straight into the result.
+        With ``spread``, a value shorter than the chunk holds the chunk's evaluated rows
+        only (dwells compressed), spread straight into the result.
         """
         if where.start != 0:
             for key, v in values.items():
-                self._put(key, v, where, index)
+                self._put(key, v, where, spread)
             return
         varying = []
         for key, v in values.items():
@@ -102,9 +102,9 @@ class _Columns:
         block = np.empty((len(varying), self.n))
         for row, key in zip(block, varying, strict=True):
             self._full[key] = row
-            _write(row[where], values[key], index)
+            _write(row[where], values[key], spread)
 
-    def _put(self, key: str, v: FloatArray, where: slice, index: NDArray[np.intp] | None) -> None:
+    def _put(self, key: str, v: FloatArray, where: slice, spread: _Spread | None) -> None:
         out = self._full.get(key)
         if out is None:
             if key in self._const and v.size and bool(np.all(v == self._const[key])):
@@ -112,7 +112,7 @@ class _Columns:
             out = self._full[key] = np.empty(self.n)
             if key in self._const:
                 out[: where.start] = self._const.pop(key)
-        _write(out[where], v, index)
+        _write(out[where], v, spread)
 
     def get(self, key: str) -> FloatArray | None:
         """Return the full-length array (or broadcast constant) of a quantity, if it was put."""
@@ -131,12 +131,18 @@ class _Columns:
         return [*self._full, *self._const]
 
 
-def _write(out: FloatArray, v: FloatArray, index: NDArray[np.intp] | None) -> None:
-    """Fill ``out`` (a chunk's rows) with ``v``, spreading compressed rows by ``index``."""
-    if index is not None and v.shape != out.shape:
-        np.take(v, index, out=out, mode="clip")  # "clip": unbuffered; indices are in range
-    else:
+def _write(out: FloatArray, v: FloatArray, spread: _Spread | None) -> None:
+    """Fill ``out`` (a chunk's rows) with ``v``, spreading compressed rows by ``spread``."""
+    if spread is None or v.shape == out.shape:
         out[...] = v
+    elif spread.runs is None:
+        np.take(v, spread.index, out=out, mode="clip")  # "clip": unbuffered; in range
+    else:
+        for start, stop, source, copied in spread.runs:
+            if copied:
+                out[start:stop] = v[source : source + stop - start]
+            else:
+                out[start:stop] = v[source]
 
 
 def _full_length(x: JetLike, shape: tuple[int, ...]) -> FloatArray:
@@ -179,7 +185,27 @@ def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
 _State = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
 #: A chunk: its rows of the grid, its state, the state at the rows evaluated, each row's
 #: evaluated row and the mask of evaluated rows (both None: every row is evaluated).
-_Chunk = tuple[slice, _State, _State, NDArray[np.intp] | None, NDArray[np.bool_] | None]
+_Chunk = tuple[slice, _State, _State, "_Spread | None", NDArray[np.bool_] | None]
+
+#: A chunk whose runs are shorter than this on average spreads by a gather instead (a
+#: run's slicing costs what gathering a few hundred rows does).
+_ROWS_PER_RUN = 256
+
+
+@dataclass(frozen=True)
+class _Spread:
+    """How a chunk's evaluated rows spread over all its rows.
+
+    ``index`` gives each row its evaluated row. ``runs`` says the same in runs of rows
+    (start, stop, source, copied): a copied run takes the evaluated rows from
+    ``source`` on, one each, a repeated run (a dwell) repeats evaluated row ``source``.
+    A dwell is one or two runs, so slices copy and fill a chunk at memory speed where a
+    gather reads an index per row; ``runs`` is None when there are too many of them.
+    """
+
+    index: NDArray[np.intp]
+    runs: tuple[tuple[int, int, int, bool], ...] | None
+
 
 #: Inside a :func:`shared_dwells` block: the chunks found for each grid and motion
 #: ((θ, S, V, A, J) arrays, chunk size, chunks).
@@ -242,9 +268,22 @@ def _dwell_chunks(theta: FloatArray, motion: MotionState, chunk: int) -> Iterato
         kept.append((grid, chunk, found))
 
 
+def _runs(
+    fresh: NDArray[np.bool_], index: NDArray[np.intp]
+) -> tuple[tuple[int, int, int, bool], ...] | None:
+    """Return the runs of :class:`_Spread` of a chunk's mask of evaluated rows, or None."""
+    starts = np.flatnonzero(fresh[1:] != fresh[:-1]) + 1
+    if (starts.size + 1) * _ROWS_PER_RUN > fresh.size:
+        return None
+    bounds = [0, *starts.tolist(), fresh.size]
+    return tuple(
+        (a, b, int(index[a]), bool(fresh[a])) for a, b in zip(bounds[:-1], bounds[1:], strict=True)
+    )
+
+
 def _evaluated_rows(
     state: _State, repeats: NDArray[np.bool_]
-) -> tuple[_State, NDArray[np.intp] | None, NDArray[np.bool_] | None]:
+) -> tuple[_State, _Spread | None, NDArray[np.bool_] | None]:
     """Return a chunk's state at the rows to evaluate, each row's evaluated row, the mask."""
     if repeats.size >= 1024:  # shorter: bookkeeping ≈ saving
         fresh = ~repeats
@@ -255,7 +294,7 @@ def _evaluated_rows(
             t, s, v, acc, jerk = (x[keep] for x in state)
             for x in (t, s, v, acc, jerk, index, fresh):
                 x.flags.writeable = False  # shared by the cams of a pair
-            return (t, s, v, acc, jerk), index, fresh
+            return (t, s, v, acc, jerk), _Spread(index, _runs(fresh, index)), fresh
     return state, None, None
 
 
@@ -394,7 +433,7 @@ def evaluate_engine(
     chunk_sens: dict[str, JetLike]
     step = max(int(chunk), 1)
     chunks = _dwell_chunks(theta, motion, step) if dwells else _chunks(theta, motion, step)
-    for at, (t, s, v, acc, jerk), evaluated_state, index, evaluated in chunks:
+    for at, (t, s, v, acc, jerk), evaluated_state, spread, evaluated in chunks:
         th: JetLike
         lift: JetLike
         vel: JetLike
@@ -436,7 +475,7 @@ def evaluate_engine(
             chunk_points = {k: _full_length(values.pop(k), (m,)) for k in _POINTS}
             points.put_chunk(chunk_points, slice(stored, stored + m))
             stored += m
-        cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at, index)
+        cols.put_chunk({k: _full_length(x, t.shape) for k, x in values.items()}, at, spread)
         del chunk_sens, values
     c = cols
     xa, ya, xq, yq = (points[k] if rows is None else points[k][:stored] for k in _POINTS)
