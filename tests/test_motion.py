@@ -97,6 +97,41 @@ def test_program_left_and_right_limits_at_boundaries() -> None:
     assert m2.jerk[0] == pytest.approx(-4 * math.pi**2 * 22 / beta_r**3)
 
 
+def test_segment_index_by_comparisons_is_the_binary_search(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A few segments' index by one comparison per start: searchsorted's, row for row.
+
+    Angles on every boundary with either limit, a NaN and random angles (issue 8).
+    """
+    import camtol.motion as motion_module
+
+    p = _cw06()
+    rng = np.random.default_rng(5)
+    bounds = np.radians([0.0, 120.0, 190.0, 290.0, 360.0])
+    t = np.concatenate([bounds, bounds, rng.uniform(0.0, 2 * math.pi, 500), [math.nan]])
+    left = np.zeros(t.size, bool)
+    left[bounds.size : 2 * bounds.size] = True
+    t = p._wrap(t)
+    ours = p.segment_index(t, left_limit=left, wrapped=True)
+    monkeypatch.setattr(motion_module, "_COMPARED_STARTS", 0)
+    np.testing.assert_array_equal(ours, p.segment_index(t, left_limit=left, wrapped=True))
+
+
+def test_a_grid_in_order_and_shuffled_give_the_same_motion() -> None:
+    """Segments evaluated run by run (a grid in order) or row set by row set: bit for bit."""
+    p = _cw06()
+    theta = np.linspace(0.0, 2 * math.pi, 3601)
+    left = np.zeros(theta.size, bool)
+    left[-1] = True  # 360° as the last segment's end
+    order = np.random.default_rng(7).permutation(theta.size)
+    in_order = p.evaluate(theta, left_limit=left)
+    shuffled = p.evaluate(theta[order], left_limit=left[order])
+    for field in ("lift", "velocity", "acceleration", "jerk"):
+        np.testing.assert_array_equal(getattr(in_order, field)[order], getattr(shuffled, field))
+    runs = list(p._segment_rows(p.segment_index(theta, left_limit=left)))
+    assert all(isinstance(rows, slice) for _, rows in runs)
+    assert [i for i, _ in runs] == [0, 1, 2, 3]
+
+
 @pytest.mark.parametrize(
     ("segments", "message"),
     [

@@ -19,6 +19,7 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Literal, get_args
@@ -33,6 +34,9 @@ FloatArray = NDArray[np.float64]
 
 SegmentKind = Literal["rise", "return", "dwell"]
 TWO_PI = 2.0 * math.pi
+
+#: Programs of up to this many segments find an angle's segment by comparisons.
+_COMPARED_STARTS = 16
 
 __all__ = [
     "MOTION_LAWS",
@@ -292,7 +296,14 @@ class SegmentProgram(MotionProgram):
             Index into :attr:`segments`, of the shape of ``theta_rad``.
         """
         t = np.asarray(theta_rad, dtype=float) if wrapped else self._wrap(theta_rad)
-        idx = np.searchsorted(self._starts, t, side="right") - 1
+        if t.ndim == 1 and self._starts.size <= _COMPARED_STARTS:
+            # The number of starts at or before each angle, by one comparison per start:
+            # searchsorted's binary search costs several times more per angle.
+            idx = np.full(t.shape, -1, dtype=np.intp)
+            for start in self._starts.tolist():
+                idx += t >= start
+        else:
+            idx = np.searchsorted(self._starts, t, side="right") - 1
         if left_limit is not None:
             left = np.broadcast_to(np.asarray(left_limit, dtype=bool), t.shape)
             if idx.ndim == 0:
@@ -305,6 +316,28 @@ class SegmentProgram(MotionProgram):
             return np.asarray(int(idx) % len(self.segments), dtype=np.intp)
         idx[idx < 0] += len(self.segments)  # a left limit at the first start: the last segment
         return idx
+
+    def _segment_rows(
+        self, idx: NDArray[np.intp]
+    ) -> Iterator[tuple[int, slice | NDArray[np.intp]]]:
+        """Yield (segment, its rows) for the segment index of each angle.
+
+        A grid in order holds each segment in a run or two (the angle 360° belongs to
+        the first segment again): runs are slices, views into the result. Angles in no
+        order (the extremes' refinement windows) are taken segment by segment.
+        """
+        if idx.ndim == 1 and idx.size:
+            cuts = np.flatnonzero(idx[1:] != idx[:-1]) + 1
+            if cuts.size < 2 * len(self.segments):
+                bounds = [0, *cuts.tolist(), idx.size]
+                for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
+                    yield int(idx[lo]), slice(lo, hi)
+                return
+        for i in range(len(self.segments)):
+            rows = np.flatnonzero(idx == i)
+            if rows.size:
+                lo, hi = int(rows[0]), int(rows[-1]) + 1
+                yield i, slice(lo, hi) if hi - lo == rows.size else rows
 
     def _wrap(self, theta_rad: ArrayLike) -> FloatArray:
         start = self._starts[0]
@@ -343,12 +376,8 @@ class SegmentProgram(MotionProgram):
         # One block for S, V, A, J: a large allocation gets huge pages (fewer page faults).
         # Every row belongs to a segment, and every segment writes all four of its rows.
         out = np.empty((4, *t.shape))
-        for i, seg in enumerate(self.segments):
-            rows = np.flatnonzero(idx == i)
-            if rows.size == 0:
-                continue
-            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
-            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
+        for i, m in self._segment_rows(idx):
+            seg = self.segments[i]
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
                 out[1:, m] = 0.0
