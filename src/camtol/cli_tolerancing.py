@@ -459,8 +459,8 @@ def allocate(
             else f"spec max |dS| <= {spec_shown:g} {unit}"
         )
         echo(f"camtol allocate: {d.name}, {what_spec}, criterion {res.criterion}")
-        for k, g in res.grades.items():
-            echo(f"  {k:<6}{g:<6}{res.tolerances[k]}")
+        for t in res.deviations:
+            echo(f"  {t.key:<6}{res.grades[t.key]:<6}{t.display}")
         what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
         if res.criterion == "monte_carlo":
             val = f"{achieved:.4%}"

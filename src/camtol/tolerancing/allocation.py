@@ -55,11 +55,9 @@ class Allocation:
     ----------
     grades : dict of str to str
         Chosen grade per source.
-    tolerances : dict of str to str
-        The resulting deviation per source, in words as the design states a tolerance
-        (:attr:`camtol.design.ResolvedTolerance.display`, e.g. ``19 µm``).
     deviations : tuple of ResolvedTolerance
-        The same deviations in internal units, with how each was obtained. [mm, rad]
+        The resulting deviation per source in internal units, with how each was
+        obtained (its ``display``, e.g. ``19 µm``, says it as a design file would). [mm, rad]
     criterion : str
         ``worst_case``, ``rss`` or ``monte_carlo``.
     spec : float or None
@@ -87,7 +85,6 @@ class Allocation:
     """
 
     grades: dict[str, str]
-    tolerances: dict[str, str]
     deviations: tuple[ResolvedTolerance, ...]
     criterion: str
     spec: float | None
@@ -486,7 +483,6 @@ def _allocate(
     assert check.yield_estimate is not None
     return Allocation(
         grades=dict(zip(keys, chosen, strict=True)),
-        tolerances={t.key: t.display for t in tols},
         deviations=tuple(tols),
         criterion=criterion,
         spec=spec,
