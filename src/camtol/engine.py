@@ -289,12 +289,18 @@ def _evaluated_rows(
         fresh = ~repeats
         fresh[0] = True
         if np.count_nonzero(fresh) < 0.9 * fresh.size:  # else the gather costs more
-            keep = np.flatnonzero(fresh)
             index = np.cumsum(fresh) - 1  # row -> its evaluated row
-            t, s, v, acc, jerk = (x[keep] for x in state)
+            runs = _runs(fresh, index)
+            if runs is None:
+                keep = np.flatnonzero(fresh)
+                t, s, v, acc, jerk = (x[keep] for x in state)
+            else:  # the copied runs' slices, joined at memory speed
+                t, s, v, acc, jerk = (
+                    np.concatenate([x[a:b] for a, b, _, copied in runs if copied]) for x in state
+                )
             for x in (t, s, v, acc, jerk, index, fresh):
                 x.flags.writeable = False  # shared by the cams of a pair
-            return (t, s, v, acc, jerk), _Spread(index, _runs(fresh, index)), fresh
+            return (t, s, v, acc, jerk), _Spread(index, runs), fresh
     return state, None, None
 
 
