@@ -82,3 +82,28 @@ def test_isolated_plateau_points_print_as_single_angles() -> None:
 
     e = Extreme("x", "min", 0.0, 139.8, ((139.8, 139.8), (143.0, 168.0)))
     assert e.where == "139.80°, 143.00-168.00°"
+
+
+@pytest.mark.parametrize(
+    "kinds",
+    [("array", "array", "array"), ("const", "array", "const"), ("const", "const"), ("array",)],
+)
+def test_worst_case_and_rms_are_the_plain_sums_bit_for_bit(kinds: tuple[str, ...]) -> None:
+    """Σ|ΔS_p| and sqrt(Σ ΔS_p²) over array and constant sensitivities, in source order."""
+    from camtol.errors import ErrorAnalysis, SourceError
+
+    rng = np.random.default_rng(17)
+    n = 257
+    sources = {}
+    for i, kind in enumerate(kinds):
+        s = rng.normal(size=n) if kind == "array" else np.broadcast_to(rng.normal(), (n,))
+        dev = float(rng.normal()) * 1e-3
+        sources[f"p{i}"] = SourceError(f"p{i}", dev, s, s, s)
+    err = ErrorAnalysis(np.zeros(n), np.zeros(n, bool), sources)
+    worst, squares = np.zeros(n), np.zeros(n)
+    for src in sources.values():
+        worst += np.abs(src.sensitivity) * abs(src.deviation)
+        squares += (src.sensitivity * src.deviation) ** 2
+    for order in (0, 1, 2):
+        np.testing.assert_array_equal(err.worst(order), worst)
+        np.testing.assert_array_equal(err.rms(order), np.sqrt(squares))

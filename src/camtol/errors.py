@@ -144,23 +144,39 @@ class ErrorAnalysis:
 
     def _sum(self, order: int, *, squares: bool) -> FloatArray:
         """Σ_p |d^k ΔS_p| (or Σ_p (d^k ΔS_p)² with ``squares``), one array pass per source."""
-        out = np.zeros(self.theta_rad.shape)
-        part = np.empty_like(out)
+        # The first array term is the sum's start (0 + p is p: every term is ≥ +0 or NaN),
+        # the constants are added as scalars, in the sources' order as ever.
+        out: FloatArray | None = None
+        part: FloatArray | None = None
+        held = 0.0  # constant terms met before the first array term
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
             c = _constant(s)
             if c is not None:  # a broadcast constant: one scalar, not an array pass
                 if c != 0.0:
                     d = c * src.deviation
-                    out += d * d if squares else abs(c) * abs(src.deviation)
+                    term = d * d if squares else abs(c) * abs(src.deviation)
+                    if out is None:
+                        held += term
+                    else:
+                        out += term
                 continue
+            if part is None:
+                part = np.empty(self.theta_rad.shape)
             if squares:
                 np.multiply(s, src.deviation, out=part)
                 part *= part
             else:
                 np.abs(s, out=part)
                 part *= abs(src.deviation)
-            out += part
+            if out is None:
+                out, part = part, None
+                if held != 0.0:
+                    out += held
+            else:
+                out += part
+        if out is None:
+            return np.full(self.theta_rad.shape, held)
         return out
 
     @property
