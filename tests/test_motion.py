@@ -107,7 +107,7 @@ def test_segment_index_by_comparisons_is_the_binary_search(monkeypatch: pytest.M
     p = _cw06()
     rng = np.random.default_rng(5)
     bounds = np.radians([0.0, 120.0, 190.0, 290.0, 360.0])
-    t = np.concatenate([bounds, bounds, rng.uniform(0.0, 2 * math.pi, 500), [math.nan]])
+    t = np.concatenate([bounds, bounds, rng.uniform(0.0, 2 * math.pi, 9000), [math.nan]])
     left = np.zeros(t.size, bool)
     left[bounds.size : 2 * bounds.size] = True
     t = p._wrap(t)

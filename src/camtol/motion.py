@@ -296,9 +296,10 @@ class SegmentProgram(MotionProgram):
             Index into :attr:`segments`, of the shape of ``theta_rad``.
         """
         t = np.asarray(theta_rad, dtype=float) if wrapped else self._wrap(theta_rad)
-        if t.ndim == 1 and self._starts.size <= _COMPARED_STARTS:
+        if t.ndim == 1 and t.size >= 8192 and self._starts.size <= _COMPARED_STARTS:
             # The number of starts at or before each angle, by one comparison per start:
-            # searchsorted's binary search costs several times more per angle.
+            # searchsorted's binary search costs several times more per angle on a long
+            # grid (on a short one, the comparisons' fixed costs are more).
             idx = np.full(t.shape, -1, dtype=np.intp)
             for start in self._starts.tolist():
                 idx += t >= start
