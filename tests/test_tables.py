@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from camtol.exceptions import DesignError, InputFileError
-from camtol.grid import check_step, uniform_table_step
+from camtol.grid import check_step, run_bounds, uniform_table_step
 from camtol.tables import parse_table, read_table
 
 
@@ -111,3 +111,15 @@ def test_uniform_table_step() -> None:
         uniform_table_step(np.r_[0.0, 1.0, 2.0, 4.0, np.arange(5.0, 361.0)], source="t.csv")
     with pytest.raises(InputFileError, match="must start at 0°"):
         uniform_table_step(np.arange(1.0, 361.0), source="t.csv")
+
+
+def test_run_bounds_split_a_grid_into_runs_of_equal_values() -> None:
+    """The one run finder of the engine, the motion program and the extremes' plateaus."""
+    values = np.array([3, 3, 1, 1, 1, 3, 2])
+    bounds = run_bounds(values)
+    assert bounds == [0, 2, 5, 6, 7]
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        assert np.all(values[a:b] == values[a])  # one value per run
+        assert b == values.size or values[b] != values[a]  # and a change after it
+    assert run_bounds(np.array([True])) == [0, 1]
+    assert run_bounds(np.array([], dtype=bool)) == [0]

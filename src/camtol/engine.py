@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol import jet
 from camtol.design import CamDesign
+from camtol.grid import run_bounds
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.kinematics import ContactPoints, Kinematics, check_geometry, check_velocity_ratio
 from camtol.mechanisms.base import ContactGeometry, Mechanism
@@ -183,10 +184,6 @@ def _repeated_states(motion: MotionState) -> NDArray[np.bool_]:
 
 #: (θ, S, V, A, J) of a chunk of the grid, or of its evaluated rows.
 _State = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-#: A chunk: its rows of the grid, its state, the state at the rows evaluated, each row's
-#: evaluated row and the mask of evaluated rows (both None: every row is evaluated).
-_Chunk = tuple[slice, _State, _State, "_Spread | None", NDArray[np.bool_] | None]
-
 #: A chunk whose runs are shorter than this on average spreads by a gather instead (a
 #: run's slicing costs what gathering a few hundred rows does).
 _ROWS_PER_RUN = 256
@@ -205,6 +202,12 @@ class _Spread:
 
     index: NDArray[np.intp]
     runs: tuple[tuple[int, int, int, bool], ...] | None
+
+
+#: A chunk: its rows of the grid, its state, the state at the rows evaluated, how those
+#: spread over the chunk's rows and the mask of evaluated rows (both None: every row is
+#: evaluated).
+_Chunk = tuple[slice, _State, _State, _Spread | None, NDArray[np.bool_] | None]
 
 
 #: Inside a :func:`shared_dwells` block: the chunks found for each grid and motion
@@ -272,10 +275,9 @@ def _runs(
     fresh: NDArray[np.bool_], index: NDArray[np.intp]
 ) -> tuple[tuple[int, int, int, bool], ...] | None:
     """Return the runs of :class:`_Spread` of a chunk's mask of evaluated rows, or None."""
-    starts = np.flatnonzero(fresh[1:] != fresh[:-1]) + 1
-    if (starts.size + 1) * _ROWS_PER_RUN > fresh.size:
+    bounds = run_bounds(fresh)
+    if (len(bounds) - 1) * _ROWS_PER_RUN > fresh.size:
         return None
-    bounds = [0, *starts.tolist(), fresh.size]
     return tuple(
         (a, b, int(index[a]), bool(fresh[a])) for a, b in zip(bounds[:-1], bounds[1:], strict=True)
     )

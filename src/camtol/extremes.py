@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camtol.exceptions import DesignError
+from camtol.grid import run_bounds
 from camtol.jet import FloatArray
 
 ExtremeKind = Literal["max", "min"]
@@ -128,12 +129,8 @@ def scaled_extremes(
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
     """Index runs [i, j] (inclusive) of True values."""
-    if mask.size == 0:
-        return []
-    bounds = np.concatenate(([0], np.flatnonzero(mask[1:] != mask[:-1]) + 1, [mask.size]))
-    held = mask[bounds[:-1]]  # each stretch between changes is all True or all False
-    starts, ends = bounds[:-1][held], bounds[1:][held] - 1
-    return list(zip(starts.tolist(), ends.tolist(), strict=True))
+    bounds = run_bounds(mask)  # each stretch between changes is all True or all False
+    return [(a, b - 1) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if mask[a]]
 
 
 def _plateaus(

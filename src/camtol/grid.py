@@ -8,13 +8,14 @@ here, so the same step is accepted or refused everywhere with the same message.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from camtol.exceptions import DesignError, InputFileError
 
-__all__ = ["MAX_GRID_POINTS", "check_step", "uniform_table_step"]
+__all__ = ["MAX_GRID_POINTS", "check_step", "run_bounds", "uniform_table_step"]
 
 #: Most points of a grid over one revolution (0.0001° steps); beyond, memory and time
 #: grow without any gain in the numbers camtol reports.
@@ -126,3 +127,22 @@ def uniform_table_step(
     except DesignError as exc:
         raise InputFileError(str(exc)) from None
     return step, t.size
+
+
+def run_bounds(values: NDArray[Any]) -> list[int]:
+    """Return where the runs of equal values along a grid start, and the grid's length.
+
+    Parameters
+    ----------
+    values : ndarray
+        One value per grid row (a mask, a segment index...), one-dimensional.
+
+    Returns
+    -------
+    list of int
+        ``[0, s1, s2, ..., n]``: run ``k`` is rows ``bounds[k]`` to ``bounds[k + 1]``
+        (excluded), all of one value; ``[0]`` for an empty array.
+    """
+    if values.size == 0:
+        return [0]
+    return [0, *(np.flatnonzero(values[1:] != values[:-1]) + 1).tolist(), values.size]

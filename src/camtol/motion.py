@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from camtol.exceptions import DesignError
+from camtol.grid import run_bounds
 from camtol.motion_laws import MOTION_LAWS, MotionLawName, NormalizedLaw, normalized_law
 
 FloatArray = NDArray[np.float64]
@@ -35,8 +36,10 @@ FloatArray = NDArray[np.float64]
 SegmentKind = Literal["rise", "return", "dwell"]
 TWO_PI = 2.0 * math.pi
 
-#: Programs of up to this many segments find an angle's segment by comparisons.
+#: Programs of up to this many segments find the segment of each angle of a grid of at
+#: least _COMPARED_ANGLES angles by comparisons (a binary search costs less on fewer).
 _COMPARED_STARTS = 16
+_COMPARED_ANGLES = 8192
 
 __all__ = [
     "MOTION_LAWS",
@@ -296,7 +299,7 @@ class SegmentProgram(MotionProgram):
             Index into :attr:`segments`, of the shape of ``theta_rad``.
         """
         t = np.asarray(theta_rad, dtype=float) if wrapped else self._wrap(theta_rad)
-        if t.ndim == 1 and t.size >= 8192 and self._starts.size <= _COMPARED_STARTS:
+        if t.ndim == 1 and t.size >= _COMPARED_ANGLES and self._starts.size <= _COMPARED_STARTS:
             # The number of starts at or before each angle, by one comparison per start:
             # searchsorted's binary search costs several times more per angle on a long
             # grid (on a short one, the comparisons' fixed costs are more).
@@ -328,9 +331,8 @@ class SegmentProgram(MotionProgram):
         order (the extremes' refinement windows) are taken segment by segment.
         """
         if idx.ndim == 1 and idx.size:
-            cuts = np.flatnonzero(idx[1:] != idx[:-1]) + 1
-            if cuts.size < 2 * len(self.segments):
-                bounds = [0, *cuts.tolist(), idx.size]
+            bounds = run_bounds(idx)
+            if len(bounds) - 2 < 2 * len(self.segments):
                 for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
                     yield int(idx[lo]), slice(lo, hi)
                 return
