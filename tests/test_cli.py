@@ -125,7 +125,7 @@ segments = [
     [
         (["analyze"], "give either a DESIGN.toml file or --example NAME"),
         (["analyze", "-e", "nope"], "example 'nope' does not exist"),
-        (["analyze", "-e", "cw06-translating", "--step", "0.7"], "step_deg=0.7 is not allowed"),
+        (["analyze", "-e", "cw06-translating", "--step", "0.7"], "--step=0.7 is not allowed"),
         (["analyze", "-e", "cw06-translating", "--curves", "x.txt"], "must end in .csv"),
         (["analyze", "-e", "cw06-translating", "--curves", "/no/such/dir/x.csv"], "does not exist"),
         (["analyze", "-e", "cw06-translating", "--step", "abc"], "'abc' is not a valid float"),
@@ -233,3 +233,63 @@ def test_reader_leaving_early_is_quiet(args: list[str]) -> None:
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 1
     assert err.decode() == "", err.decode()
+
+
+#: Every command with a grid step, its other required arguments, and the finest step it
+#: takes: the library's bound (analyse: MAX_GRID_POINTS; sizing, verify and the fixture:
+#: 360,000 points), so the option and the library agree.
+_STEP_COMMANDS = [
+    (["analyze"], 0.0001),
+    (["size"], 0.001),
+    (["report", "-o", "r.html"], 0.0001),
+    (["montecarlo", "-n", "10"], 0.0001),
+    (["verify"], 0.001),
+    (["conjugate"], 0.001),
+    (["inspect", "--points", "p.csv"], 0.0001),
+]
+
+
+@pytest.mark.parametrize(("command", "finest_deg"), _STEP_COMMANDS)
+@pytest.mark.parametrize("step", ["0.7", "-1", "0", "nan", "400"])
+def test_every_step_option_names_the_flag(
+    capsys: pytest.CaptureFixture[str], command: list[str], finest_deg: float, step: str
+) -> None:
+    # Checked as the line is parsed, before any file is read (p.csv does not exist).
+    assert main([*command, "-e", "cw11-conjugate", "--step", step]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("camtol: error: --step=") and err.count("\n") == 1
+    assert f"between {finest_deg:g}°" in err
+    assert "step_deg" not in err
+
+
+def test_step_option_bounds_are_the_libraries() -> None:
+    from camtol.grid import MAX_GRID_POINTS
+    from camtol.inspection.fixture import MAX_FIXTURE_POINTS
+
+    assert {round(360 / f) for _, f in _STEP_COMMANDS} == {MAX_GRID_POINTS, MAX_FIXTURE_POINTS}
+    # the sizing library refuses what `camtol size` refuses
+    from camtol.config import load_example
+    from camtol.exceptions import DesignError
+    from camtol.sizing import minimum_base_radius
+
+    with pytest.raises(DesignError, match=r"step_deg=0.0005 .* between 0.001°"):
+        minimum_base_radius(load_example("roller-oscillating"), step_deg=0.0005)
+
+
+def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
+    # Before, Monte Carlo and max_radius_mm built 514 steps of 0.7004° for a 0.7° step.
+    from camtol.analysis import max_radius_mm
+    from camtol.config import load_example
+    from camtol.exceptions import DesignError
+    from camtol.kinematics import analysis_grid
+    from camtol.tolerancing import monte_carlo
+
+    design = load_example("roller-oscillating")
+    for call in (
+        lambda: analysis_grid(0.7),
+        lambda: max_radius_mm(design, step_deg=0.7),
+        lambda: monte_carlo(design, 10, step_deg=0.7),
+        lambda: monte_carlo(design, 10, step_deg=-1.0),
+    ):
+        with pytest.raises(DesignError, match=r"step_deg=.* is not allowed; it must divide 360°"):
+            call()

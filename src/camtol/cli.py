@@ -16,12 +16,13 @@ import sys
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import click
 
 from camtol import __version__
 from camtol.cli_commands import short_help
+from camtol.cli_options import design_options, step_option, strict_option, verbose_option
 from camtol.exceptions import CamtolError
 
 __all__ = [
@@ -32,7 +33,6 @@ __all__ = [
     "analyse_with_hint",
     "load_input",
     "run_guarded",
-    "echo_json",
     "strict_status",
     "EXIT_OK",
     "EXIT_FAIL",
@@ -42,8 +42,6 @@ __all__ = [
 EXIT_OK = 0
 EXIT_FAIL = 1
 EXIT_USAGE = 2
-
-F = TypeVar("F", bound=Callable[..., Any])
 
 
 class _Exit(Exception):
@@ -285,32 +283,6 @@ def analyse_with_hint(design: Any, *, step_deg: float) -> Any:
         raise type(exc)(f"{exc}; {hint}") from None
 
 
-def design_options(f: F) -> F:
-    """Add the DESIGN argument and --example option."""
-    f = click.option(
-        "--example", "-e", metavar="NAME", help="Use a built-in example (see `camtol examples`)."
-    )(f)
-    f = click.argument("design", required=False, type=click.Path(dir_okay=False))(f)
-    return f
-
-
-def strict_option(f: F) -> F:
-    """Add --strict: a pressure angle beyond the design limit makes the exit status 1."""
-    return click.option(
-        "--strict",
-        is_flag=True,
-        help="Exit with status 1 when a pressure angle exceeds the design limit"
-        " (operation.pressure_angle_limit_deg).",
-    )(f)
-
-
-def verbose_option(f: F) -> F:
-    """Add --verbose: also print the conventions in force."""
-    return click.option(
-        "--verbose", "-v", is_flag=True, help="Also print the IT-grade conventions in force."
-    )(f)
-
-
 #: Other spellings accepted on the command line and not listed in the help (issue 8: one
 #: spelling, ``analyze``, with the British ``analyse`` kept as an alias).
 COMMAND_ALIASES: dict[str, str] = {"analyse": "analyze"}
@@ -378,15 +350,7 @@ def cli() -> None:
 
 @cli.command()
 @design_options
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    metavar="DEG",
-    help="Grid step [deg].",
-)
+@step_option()
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
     "--curves",

@@ -17,7 +17,6 @@ from camtol.cli import (
     EXIT_OK,
     _Exit,
     check_output_path,
-    design_options,
     echo_json,
     fail,
     guard_paths,
@@ -25,6 +24,7 @@ from camtol.cli import (
     run_guarded,
 )
 from camtol.cli_inspection_options import decision_option
+from camtol.cli_options import design_options, step_option
 from camtol.cli_records import add_records, check_store_options, fixture_records, store_options
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -74,14 +74,10 @@ def _file_arg(value: str | None) -> str | None:
     metavar="VALUE|FILE.csv|FORMULA",
     help="Known radial error of master cam B (µm), as for --df-mea.",
 )
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    metavar="DEG",
-    help="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
+@step_option(
+    help_text="Grid step [deg]; must divide 360° into a whole number of steps, 0.001° to 90°.",
+    min_points=4,
+    max_points=360_000,
 )
 @decision_option
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
@@ -169,10 +165,6 @@ def conjugate(
     """
 
     def body() -> int:
-        from camtol.grid import check_step
-        from camtol.inspection.fixture import MAX_FIXTURE_POINTS
-
-        check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
         guard_paths(
             {
                 "DESIGN": design,

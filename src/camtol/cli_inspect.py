@@ -17,12 +17,12 @@ from camtol.cli import (
     EXIT_OK,
     _Exit,
     check_output_path,
-    design_options,
     echo_json,
     fail,
     load_input,
     run_guarded,
 )
+from camtol.cli_options import design_options, step_option
 from camtol.cli_records import check_store_options, store_options
 
 if TYPE_CHECKING:
@@ -200,14 +200,7 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     show_default=True,
     help="Fourier cut-off smoothing Δn for the follower error.",
 )
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    help="Cam-angle step of the follower error [deg].",
-)
+@step_option(help_text="Cam-angle step of the follower error [deg].", min_points=4)
 @click.option(
     "--spec-um",
     type=float,

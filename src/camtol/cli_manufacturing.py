@@ -16,13 +16,13 @@ from camtol.cli import (
     EXIT_OK,
     _Exit,
     check_output_path,
-    design_options,
     echo_json,
     fail,
     guard_paths,
     load_checked,
     run_guarded,
 )
+from camtol.cli_options import design_options
 
 __all__ = ["cut", "derive", "precision"]
 

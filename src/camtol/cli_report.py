@@ -16,7 +16,6 @@ from camtol.cli import (
     EXIT_OK,
     _Exit,
     check_output_path,
-    design_options,
     echo_json,
     fail,
     guard_paths,
@@ -24,6 +23,7 @@ from camtol.cli import (
     run_guarded,
 )
 from camtol.cli_inspection_options import has_inspection_input, inspection_options, run_fixture
+from camtol.cli_options import design_options, step_option
 
 __all__ = ["profile", "report"]
 
@@ -230,15 +230,7 @@ def _traceability_options(f: Any) -> Any:
 @click.option(
     "--output", "-o", "output", metavar="FILE.html", required=True, help="Report file (.html)."
 )
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    metavar="DEG",
-    help="Grid step [deg].",
-)
+@step_option()
 @inspection_options
 @click.option(
     "--no-fail",

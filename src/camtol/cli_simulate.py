@@ -13,15 +13,8 @@ from pathlib import Path
 
 import click
 
-from camtol.cli import (
-    EXIT_OK,
-    _Exit,
-    check_output_path,
-    design_options,
-    fail,
-    load_input,
-    run_guarded,
-)
+from camtol.cli import EXIT_OK, _Exit, check_output_path, fail, load_input, run_guarded
+from camtol.cli_options import design_options
 
 __all__ = ["simulate"]
 

@@ -11,7 +11,8 @@ from typing import Any
 
 import click
 
-from camtol.cli import EXIT_OK, _Exit, design_options, echo_json, load_input, run_guarded
+from camtol.cli import EXIT_OK, _Exit, echo_json, load_input, run_guarded
+from camtol.cli_options import design_options, step_option
 
 __all__ = ["size", "sizing_hint"]
 
@@ -103,15 +104,7 @@ def sizing_hint(design: Any) -> str | None:
     is_flag=True,
     help="Also choose the offset of a translating roller follower (smallest max |φ|).",
 )
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    metavar="DEG",
-    help="Grid step [deg].",
-)
+@step_option(max_points=360_000)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def size(
     design: str | None,

@@ -14,16 +14,8 @@ from typing import Any
 
 import click
 
-from camtol.cli import (
-    EXIT_OK,
-    _Exit,
-    check_output_path,
-    design_options,
-    echo_json,
-    fail,
-    load_input,
-    run_guarded,
-)
+from camtol.cli import EXIT_OK, _Exit, check_output_path, echo_json, fail, load_input, run_guarded
+from camtol.cli_options import design_options, step_option
 
 __all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
 
@@ -233,7 +225,7 @@ def _print(shown: Any) -> None:
     metavar="FILE.csv",
     help="Band lower <= dS <= upper (theta_deg, lower_um, upper_um or _deg) for the yield.",
 )
-@click.option("--step", "step_deg", type=float, default=0.1, show_default=True, help="Grid [deg].")
+@step_option()
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--curves", metavar="FILE.csv", help="Write per-angle statistics and shares.")
 @click.option("--plot", metavar="FILE.png", help="Write the band figure (PNG, SVG, PDF).")

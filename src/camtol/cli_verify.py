@@ -8,15 +8,8 @@ from __future__ import annotations
 
 import click
 
-from camtol.cli import (
-    EXIT_FAIL,
-    EXIT_OK,
-    _Exit,
-    design_options,
-    echo_json,
-    load_input,
-    run_guarded,
-)
+from camtol.cli import EXIT_FAIL, EXIT_OK, _Exit, echo_json, load_input, run_guarded
+from camtol.cli_options import design_options, step_option
 from camtol.report.units import pretty_unit
 
 __all__ = ["verify"]
@@ -93,15 +86,7 @@ def _print_summary(v: object) -> None:
 
 @click.command()
 @design_options
-@click.option(
-    "--step",
-    "step_deg",
-    type=float,
-    default=0.1,
-    show_default=True,
-    metavar="DEG",
-    help="Grid step [deg].",
-)
+@step_option(min_points=4, max_points=360_000)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--no-polyline", is_flag=True, help="Skip the exported-polyline check (faster).")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
@@ -121,10 +106,8 @@ def verify(
     """
 
     def body() -> int:
-        from camtol.grid import check_step
         from camtol.verify import verify as run
 
-        check_step(step_deg, name="--step", min_points=4, max_points=360_000)
         result = run(load_input(design, example), step_deg=step_deg, polyline=not no_polyline)
         if as_json:
             echo_json(result.to_dict(), command="verify")

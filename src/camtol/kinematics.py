@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol.design import CamDesign
 from camtol.exceptions import GeometryError, PressureAngleWarning, UndercutError
+from camtol.grid import check_step
 from camtol.iso286 import ROUNDING_RTOL
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import ContactGeometry
@@ -190,7 +191,8 @@ def analysis_grid(
     Parameters
     ----------
     step_deg : float
-        Grid step; 360 must be a whole multiple of it to within 1e-9. [deg]
+        Grid step; it must divide 360° into a whole number of steps, at most
+        :data:`camtol.grid.MAX_GRID_POINTS` (:func:`camtol.grid.check_step`). [deg]
     boundaries_rad : array_like
         Angles where derivatives may jump. [rad]
 
@@ -199,7 +201,15 @@ def analysis_grid(
     theta_rad, left_limit
         The grid and the mask of left-limit rows (read-only: the same grid is shared by
         every call with the same arguments).
+
+    Raises
+    ------
+    DesignError
+        If the step is not allowed (named ``step_deg``, the callers' parameter).
     """
+    # Every grid goes through the one rule, so no caller can build one whose last step
+    # is not the others' (a step of 0.7° gives 514 steps of 0.7004°).
+    check_step(step_deg, name="step_deg")
     b = np.asarray(boundaries_rad, dtype=float).ravel()
     return _grid(float(step_deg), tuple(b.tolist()))
 
