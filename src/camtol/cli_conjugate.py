@@ -8,7 +8,6 @@ bad input.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import click
 
@@ -26,9 +25,6 @@ from camtol.cli import (
 from camtol.cli_inspection_options import decision_option
 from camtol.cli_options import design_options, step_option
 from camtol.cli_records import add_records, check_store_options, fixture_records, store_options
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 __all__ = ["conjugate"]
 

@@ -28,6 +28,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "FixtureRun",
+    "check_cmm_options",
     "decision_option",
     "has_inspection_input",
     "inspection_options",
@@ -173,6 +174,35 @@ def has_inspection_input(*values: str | None) -> bool:
     return any(x is not None for x in values)
 
 
+def check_cmm_options(
+    cmm_a: str | None, cmm_b: str | None, cmm_stylus_mm: float, cmm_datum: str
+) -> None:
+    """Refuse CMM-scan options that cannot apply: one scan alone, or no scan at all.
+
+    Without ``--cmm-a``/``--cmm-b`` a stylus radius or a datum would be silently ignored
+    (a NaN radius included), so giving one ends the command with a usage error.
+
+    Parameters
+    ----------
+    cmm_a, cmm_b : str or None
+        ``--cmm-a`` and ``--cmm-b``: the CMM scans of cams A and B.
+    cmm_stylus_mm : float
+        ``--cmm-stylus-radius-mm`` (default 0). [mm]
+    cmm_datum : str
+        ``--cmm-datum`` (default ``fit``).
+    """
+    if (cmm_a is None) != (cmm_b is None):
+        fail("--cmm-a and --cmm-b go together: give the scans of both cams")
+    if cmm_a is not None:
+        return
+    for flag, value, default in (
+        ("--cmm-stylus-radius-mm", cmm_stylus_mm, 0.0),
+        ("--cmm-datum", cmm_datum, "fit"),
+    ):
+        if value != default:  # NaN too
+            fail(f"{flag}={value!r} applies to CMM scans: give --cmm-a and --cmm-b as well")
+
+
 def run_fixture(
     d: CamDesign,
     *,
@@ -269,8 +299,7 @@ def run_fixture(
             read_indicator_csv(record_path), drop_bad_revolutions=drop_bad_revolutions
         )
         spec = dataclasses.replace(spec, df_mea=to_error_function(processed))
-    if (cmm_a is None) != (cmm_b is None):
-        fail("--cmm-a and --cmm-b go together: give the scans of both cams")
+    check_cmm_options(cmm_a, cmm_b, cmm_stylus_mm, cmm_datum)
     if cmm_a is not None and cmm_b is not None:
         from camtol.cli_inspect import cmm_pair_masters
 

@@ -22,7 +22,12 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
-from camtol.cli_inspection_options import has_inspection_input, inspection_options, run_fixture
+from camtol.cli_inspection_options import (
+    check_cmm_options,
+    has_inspection_input,
+    inspection_options,
+    run_fixture,
+)
 from camtol.cli_options import design_options, step_option
 
 __all__ = ["profile", "report"]
@@ -322,6 +327,7 @@ def report(
             if value is not None and Path(value).exists()
         }
         guard_paths({"DESIGN": design, **csv_inputs}, {"--output": output})
+        check_cmm_options(cmm_a, cmm_b, cmm_stylus_mm, cmm_datum)
         check_output_path(output, "--output", [".html", ".htm"])
         if mc_samples is not None and mc_samples <= 0:
             fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")

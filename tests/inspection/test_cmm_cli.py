@@ -451,3 +451,31 @@ def test_inspect_quiet_prints_nothing(capsys, scan_b: Path) -> None:  # type: ig
     args = ["inspect", "--example", "cw11-experiment", "--points", str(scan_b), "--cam", "B"]
     code, out, err = _run(capsys, *args, "--stylus-radius-mm", "1", "-q")
     assert code == 0 and out == "" and err == ""
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["conjugate", "-e", "cw11-experiment"],
+        ["report", "-e", "cw11-conjugate", "-o", "r.html"],  # a pair with [inspection]
+        ["report", "-e", "roller-oscillating", "-o", "r.html"],  # not a pair: never read
+    ],
+)
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--cmm-stylus-radius-mm", "nan"), ("--cmm-stylus-radius-mm", "2"), ("--cmm-datum", "bore")],
+)
+def test_cmm_scan_options_without_scans_are_refused(  # type: ignore[no-untyped-def]
+    capsys,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    command: list[str],
+    option: str,
+    value: str,
+) -> None:
+    # They used to be ignored in silence (a NaN stylus radius included).
+    monkeypatch.chdir(tmp_path)
+    code, _, err = _run(capsys, *command, option, value)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert f"{option}=" in err and "applies to CMM scans: give --cmm-a and --cmm-b" in err
+    assert not (tmp_path / "r.html").exists()
