@@ -293,3 +293,97 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
     ):
         with pytest.raises(DesignError, match=r"step_deg=.* is not allowed; it must divide 360°"):
             call()
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # each of these named the library's parameter, a converted value, or raised
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--seed", "-1"],
+            "--seed=-1 is not allowed; give a whole number ≥ 0",
+        ),
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--points", "10"],
+            "--points=10 is not allowed; give a whole number ≥ 36",
+        ),
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--outliers", "361"],
+            "--outliers=361 is not allowed; give a whole number from 0 to 360",
+        ),
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--noise-um", "nan"],
+            "--noise-um=nan is not allowed; give a number ≥ 0 in µm",
+        ),
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--points", "1.5"],
+            "--points='1.5' is not a whole number",
+        ),
+        (
+            ["cut", "--lift-tolerance-um", "-1"],
+            "--lift-tolerance-um=-1 is not allowed; give a number > 0",
+        ),
+        (
+            ["cut", "--accel-budget", "nan"],
+            "--accel-budget=nan is not allowed; give a percentage > 0",
+        ),
+        (
+            ["precision", "--accel-budget", "0"],
+            "--accel-budget=0 is not allowed; give a percentage > 0",
+        ),
+        (["precision", "--decimals", "nan"], "--decimals='nan' is not allowed; give whole numbers"),
+        (
+            ["precision", "--decimals", "3,40"],
+            "--decimals='3,40' is not allowed; give whole numbers from 0 to 12",
+        ),
+        (
+            ["inspect", "--points", "p.csv", "--stylus-radius-mm", "-1"],
+            "--stylus-radius-mm=-1 is not allowed; give a number ≥ 0 in mm",
+        ),
+        (
+            ["profile", "-o", "p.csv", "--tolerance", "1e308"],
+            "--tolerance=1e+308 is not allowed; give a number from 0.0001 to 1000 in µm",
+        ),
+        (
+            ["profile", "-o", "p.csv", "--spark-gap", "nan"],
+            "--spark-gap=nan is not allowed; give a number ≥ 0 in mm",
+        ),
+        (
+            ["profile", "-o", "p.csv", "--spark-gap", "0.1"],
+            "--wire-radius and --spark-gap are only allowed for G-code output",
+        ),
+        (
+            ["profile", "-o", "p.nc", "--cutter-radius", "5", "--spark-gap", "0.1"],
+            "--spark-gap is the wire-EDM overcut: give --wire-radius MM as well",
+        ),
+    ],
+)
+def test_number_options_name_the_flag(
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    args: list[str],
+    message: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert main([*args, "-e", "roller-oscillating"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_number_type_bounds_and_text() -> None:
+    import click
+
+    from camtol.cli_options import Number
+
+    opt = click.Option(["--x"], type=Number(low=0, low_open=True, high=5, unit="mm"))
+    assert opt.type.convert("5", opt, None) == 5.0
+    assert Number(low=1, integer=True).convert("3", None, None) == 3
+    for bad in ("0", "5.5", "inf", "-inf", "nan"):
+        with pytest.raises(
+            click.UsageError, match=r"--x=.* is not allowed; give a number from 0 to 5 in mm"
+        ):
+            opt.type.convert(bad, opt, None)
+    assert Number(low=0, low_open=True, unit="%").allowed == "a percentage > 0"
+    assert Number(high=3, integer=True).allowed == "a whole number ≤ 3"

@@ -23,7 +23,7 @@ from camtol.cli import (
     run_guarded,
 )
 from camtol.cli_inspection_options import decision_option
-from camtol.cli_options import design_options, step_option
+from camtol.cli_options import Number, design_options, step_option
 from camtol.cli_records import add_records, check_store_options, fixture_records, store_options
 
 __all__ = ["conjugate"]
@@ -103,7 +103,7 @@ def _file_arg(value: str | None) -> str | None:
 @click.option(
     "--cmm-stylus-radius-mm",
     "cmm_stylus_mm",
-    type=float,
+    type=Number(low=0, unit="mm"),
     default=0.0,
     show_default=True,
     help="Stylus radius of the CMM scans (0: surface points) [mm].",

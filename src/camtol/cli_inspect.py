@@ -22,7 +22,7 @@ from camtol.cli import (
     load_input,
     run_guarded,
 )
-from camtol.cli_options import design_options, step_option
+from camtol.cli_options import Number, design_options, step_option
 from camtol.cli_records import check_store_options, store_options
 
 if TYPE_CHECKING:
@@ -141,7 +141,7 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 @click.option(
     "--stylus-radius-mm",
     "stylus_mm",
-    type=float,
+    type=Number(low=0, unit="mm"),
     default=0.0,
     show_default=True,
     help="Stylus-ball radius: the points are ball centres, compensated along the"

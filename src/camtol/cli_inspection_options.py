@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from camtol.cli import fail
+from camtol.cli_options import Number
 
 if TYPE_CHECKING:  # pragma: no cover
     from camtol.design import CamDesign
@@ -113,7 +114,7 @@ def inspection_options(f: F) -> F:
         click.option(
             "--cmm-stylus-radius-mm",
             "cmm_stylus_mm",
-            type=float,
+            type=Number(low=0, unit="mm"),
             default=0.0,
             show_default=True,
             help="Stylus radius of the CMM scans (0: surface points) [mm].",

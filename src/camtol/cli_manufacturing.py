@@ -22,7 +22,7 @@ from camtol.cli import (
     load_checked,
     run_guarded,
 )
-from camtol.cli_options import design_options
+from camtol.cli_options import Number, design_options
 
 __all__ = ["cut", "derive", "precision"]
 
@@ -39,7 +39,7 @@ def _floats(text: str, option: str) -> list[float]:
 
 def _ints(text: str, option: str) -> list[int]:
     values = _floats(text, option)
-    if any(v != int(v) for v in values):
+    if not all(math.isfinite(v) and v == int(v) for v in values):  # int(nan) would raise
         fail(f"{option}={text!r} is not allowed; give whole numbers of decimals, e.g. 3,4,5,6")
     return [int(v) for v in values]
 
@@ -101,7 +101,8 @@ def _precision_json(st: Any) -> dict[str, Any]:
     help="Numbers of decimals to round the table to, comma-separated.",
 )  # fmt: skip
 @click.option(
-    "--accel-budget", "accel_budget_pct", type=float, default=None, metavar="PCT",
+    "--accel-budget", "accel_budget_pct", type=Number(low=0, low_open=True, unit="%"),
+    default=None, metavar="PCT",
     help="Acceptable acceleration error in % of max |A|: recommends the fewest decimals.",
 )  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print the study as JSON.")
@@ -123,9 +124,14 @@ def precision(
 
     def body() -> int:
         from camtol.grid import check_step
-        from camtol.manufacturing.precision import table_precision
+        from camtol.manufacturing.precision import MAX_DECIMALS, table_precision
 
         decimals = _ints(decimals_text, "--decimals")
+        if not all(0 <= k <= MAX_DECIMALS for k in decimals):
+            fail(
+                f"--decimals={decimals_text!r} is not allowed; give whole numbers from 0 to"
+                f" {MAX_DECIMALS}"
+            )
         check_step(table_step_deg, name="--table-step", min_points=8)
         st = table_precision(
             load_checked(design, example),
@@ -216,12 +222,14 @@ def _cut_json(res: Any) -> dict[str, Any]:
     help="Which cam of a conjugate pair to cut.",
 )  # fmt: skip
 @click.option(
-    "--lift-tolerance-um", "lift_tol", type=float, default=None, metavar="UM",
+    "--lift-tolerance-um", "lift_tol", type=Number(low=0, low_open=True), default=None,
+    metavar="UM",
     help="Find the coarsest step whose lift error stays within this [µm, or deg for an"
     " oscillating follower].",
 )  # fmt: skip
 @click.option(
-    "--accel-budget", "accel_budget_pct", type=float, default=None, metavar="PCT",
+    "--accel-budget", "accel_budget_pct", type=Number(low=0, low_open=True, unit="%"),
+    default=None, metavar="PCT",
     help="Find the coarsest step whose second-difference A error stays within PCT % of max |A|.",
 )  # fmt: skip
 @click.option(

@@ -1,20 +1,26 @@
-"""Options that several ``camtol`` commands share, defined once.
+"""Options that several ``camtol`` commands share, defined once, and number options.
 
 ``--step`` is checked as the command line is parsed, by the one rule of
 :func:`camtol.grid.check_step`, so every command refuses a step that does not divide 360°
 with the same one-line message naming the flag (``--step=0.7 is not allowed; ...``), before
 any file is read. The module imports neither numpy nor the library: ``camtol --help`` stays
 light (``tests/test_cli_lazy.py``).
+
+:class:`Number` is the type of a numeric option with bounds: a value that is not finite or
+out of bounds is refused as the line is read, with the flag's name and what is allowed
+(``--noise-um=-1 is not allowed; give a number ≥ 0 in µm``), never under the name of the
+library parameter it becomes, and never after a unit conversion.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any, TypeVar
 
 import click
 
-__all__ = ["design_options", "step_option", "strict_option", "verbose_option"]
+__all__ = ["Number", "design_options", "step_option", "strict_option", "verbose_option"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -121,3 +127,73 @@ def step_option(
         callback=check,
         help=help_text,
     )
+
+
+class Number(click.ParamType):  # type: ignore[type-arg]  # generic from click 8.4 on
+    """A finite number (or whole number) within bounds, checked as the line is read.
+
+    Parameters
+    ----------
+    low : float, optional
+        Smallest value allowed (``low_open``: values must exceed it).
+    low_open : bool
+        Exclude ``low`` itself.
+    high : float, optional
+        Largest value allowed.
+    integer : bool
+        Whole numbers only (an ``int``).
+    unit : str
+        Unit named in the message (``µm``, ``mm``, ``%``), or ``""``.
+    """
+
+    def __init__(
+        self,
+        *,
+        low: float | None = None,
+        low_open: bool = False,
+        high: float | None = None,
+        integer: bool = False,
+        unit: str = "",
+    ) -> None:
+        self.low, self.low_open, self.high, self.integer = low, low_open, high, integer
+        self.name = "integer" if integer else "float"  # the usage's INTEGER / FLOAT
+        what = "a whole number" if integer else "a percentage" if unit == "%" else "a number"
+        if low is not None and high is not None:
+            bounds = f" from {low:g} to {high:g}"
+        elif low is not None:
+            bounds = f" {'>' if low_open else '≥'} {low:g}"
+        else:
+            bounds = "" if high is None else f" ≤ {high:g}"
+        self.allowed = what + bounds + (f" in {unit}" if unit and unit != "%" else "")
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        """Return the value as a number, or end the command with a one-line usage error.
+
+        Parameters
+        ----------
+        value : Any
+            The text given (or the default).
+        param : click.Parameter or None
+            The option, whose longest flag the message names.
+        ctx : click.Context or None
+            The command's context.
+
+        Returns
+        -------
+        int or float
+            The number.
+        """
+        flag = max(getattr(param, "opts", None) or ["value"], key=len)
+        try:
+            x = (int if self.integer else float)(value)
+        except (TypeError, ValueError):
+            kind = "a whole number" if self.integer else "a number"
+            raise click.UsageError(f"{flag}={value!r} is not {kind}", ctx) from None
+        low, high = self.low, self.high
+        if (
+            not math.isfinite(x)
+            or (low is not None and (x <= low if self.low_open else x < low))
+            or (high is not None and x > high)
+        ):
+            raise click.UsageError(f"{flag}={x:g} is not allowed; give {self.allowed}", ctx)
+        return x

@@ -28,7 +28,7 @@ from camtol.cli_inspection_options import (
     inspection_options,
     run_fixture,
 )
-from camtol.cli_options import design_options, step_option
+from camtol.cli_options import Number, design_options, step_option
 
 __all__ = ["profile", "report"]
 
@@ -47,7 +47,7 @@ __all__ = ["profile", "report"]
 @click.option(
     "--tolerance",
     "tolerance_um",
-    type=float,
+    type=Number(low=1e-4, high=1000.0, unit="µm"),  # camtol.profile: 1e-7 to 1 mm
     default=0.1,
     show_default=True,
     metavar="UM",
@@ -56,7 +56,7 @@ __all__ = ["profile", "report"]
 @click.option(
     "--cutter-radius",
     "cutter_radius_mm",
-    type=float,
+    type=Number(low=0, unit="mm"),
     default=None,
     metavar="MM",
     help="Also write the cutter-centre path for a cutter of this radius [mm].",
@@ -66,11 +66,13 @@ __all__ = ["profile", "report"]
     show_default=True, help="G-code output: G02/G03 biarcs or G01 chords.",
 )  # fmt: skip
 @click.option(
-    "--wire-radius", "wire_radius_mm", type=float, default=None, metavar="MM",
+    "--wire-radius", "wire_radius_mm", type=Number(low=0, unit="mm"), default=None,
+    metavar="MM",
     help="G-code for wire EDM: wire radius [mm] (offset = wire radius + spark gap).",
 )  # fmt: skip
 @click.option(
-    "--spark-gap", "spark_gap_mm", type=float, default=0.0, show_default=True, metavar="MM",
+    "--spark-gap", "spark_gap_mm", type=Number(low=0, unit="mm"), default=0.0,
+    show_default=True, metavar="MM",
     help="Wire-EDM spark gap (overcut per side) [mm].",
 )  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
@@ -106,11 +108,9 @@ def profile(
                 load_input, design, example, output, tolerance_um, cutter_radius_mm,
                 gcode_mode, wire_radius_mm, spark_gap_mm, as_json, quiet,
             )  # fmt: skip
-        if wire_radius_mm is not None:
-            fail("--wire-radius is only allowed for G-code output (-o FILE.nc)")
+        if wire_radius_mm is not None or spark_gap_mm != 0.0:
+            fail("--wire-radius and --spark-gap are only allowed for G-code output (-o FILE.nc)")
         check_output_path(output, "--output", list(EXPORT_SUFFIXES) + list(GCODE_SUFFIXES))
-        if not (tolerance_um > 0):
-            fail(f"--tolerance={tolerance_um:g} is not allowed; give a positive value in µm")
         if cutter_radius_mm is not None and not (cutter_radius_mm > 0):
             fail(
                 f"--cutter-radius={cutter_radius_mm:g} is not allowed; give a positive radius in mm"
@@ -174,15 +174,8 @@ def _write_gcode(
     check_output_path(output, "--output", list(GCODE_SUFFIXES))
     if (cutter_radius_mm is None) == (wire_radius_mm is None):
         fail("G-code output needs exactly one of --cutter-radius MM or --wire-radius MM")
-    if not (tolerance_um > 0):
-        fail(f"--tolerance={tolerance_um:g} is not allowed; give a positive value in µm")
-    for flag, val in (
-        ("--cutter-radius", cutter_radius_mm),
-        ("--wire-radius", wire_radius_mm),
-        ("--spark-gap", spark_gap_mm),
-    ):
-        if val is not None and not (val >= 0 and val == val and val != float("inf")):
-            fail(f"{flag}={val:g} is not allowed; give a length ≥ 0 in mm")
+    if wire_radius_mm is None and spark_gap_mm != 0.0:
+        fail("--spark-gap is the wire-EDM overcut: give --wire-radius MM as well")
     from camtol.validity import check_design_geometry
 
     d = load(design, example)

@@ -14,7 +14,7 @@ from pathlib import Path
 import click
 
 from camtol.cli import EXIT_OK, _Exit, check_output_path, fail, load_input, run_guarded
-from camtol.cli_options import design_options
+from camtol.cli_options import Number, design_options
 
 __all__ = ["simulate"]
 
@@ -41,19 +41,27 @@ def simulate() -> None:
     show_default=True,
     help="Which cam of a conjugate pair.",
 )
-@click.option("--points", type=int, default=3600, show_default=True, help="Profile points.")
+@click.option(
+    "--points",
+    type=Number(low=36, integer=True),  # camtol.inspection.cmm.MIN_POINTS
+    default=3600,
+    show_default=True,
+    help="Profile points.",
+)
 @click.option(
     "--noise-um",
-    type=float,
+    type=Number(low=0, unit="µm"),
     default=1.0,
     show_default=True,
     help="Probe noise along the normal (standard deviation) [µm].",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
+@click.option(
+    "--seed", type=Number(low=0, integer=True), default=0, show_default=True, help="Random seed."
+)
 @click.option(
     "--stylus-radius-mm",
     "stylus_mm",
-    type=float,
+    type=Number(low=0, unit="mm"),
     default=0.0,
     show_default=True,
     help="Write stylus-ball centres of this radius (0: surface points) [mm].",
@@ -81,7 +89,7 @@ def simulate() -> None:
 )
 @click.option(
     "--outliers",
-    type=int,
+    type=Number(low=0, integer=True),
     default=0,
     show_default=True,
     help="Points thrown off the surface by 50-100 µm.",
@@ -138,6 +146,11 @@ def simulate_cmm(
                 fail(f"{name}={v!r} must be a finite number")
         if not (math.isfinite(error_rms_um) and error_rms_um >= 0):
             fail(f"--error-rms-um={error_rms_um!r} is not allowed; give a number ≥ 0 µm")
+        if outliers > points // 10:  # camtol.inspection.twin: a tenth of the points at most
+            fail(
+                f"--outliers={outliers} is not allowed; give a whole number from 0 to"
+                f" {points // 10} (a tenth of --points)"
+            )
         from camtol.files import atomic_write
         from camtol.inspection.twin import random_profile_error, scan_csv_text, simulate_scan
 
@@ -193,21 +206,23 @@ def simulate_cmm(
 )
 @click.option(
     "--noise-um",
-    type=float,
+    type=Number(low=0, unit="µm"),
     default=0.5,
     show_default=True,
     help="Indicator noise per sample (standard deviation) [µm].",
 )
-@click.option("--revolutions", type=int, default=10, show_default=True)
+@click.option("--revolutions", type=Number(low=1, integer=True), default=10, show_default=True)
 @click.option(
     "--samples",
     "samples",
-    type=int,
+    type=Number(low=3, integer=True),  # camtol.inspection.record.MIN_SAMPLES_PER_REVOLUTION
     default=4500,
     show_default=True,
     help="Samples per revolution (4 rev/h at 5 Hz: 4500).",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
+@click.option(
+    "--seed", type=Number(low=0, integer=True), default=0, show_default=True, help="Random seed."
+)
 def simulate_record_cmd(
     design: str | None,
     example: str | None,

@@ -463,7 +463,7 @@ def test_inspect_quiet_prints_nothing(capsys, scan_b: Path) -> None:  # type: ig
 )
 @pytest.mark.parametrize(
     ("option", "value"),
-    [("--cmm-stylus-radius-mm", "nan"), ("--cmm-stylus-radius-mm", "2"), ("--cmm-datum", "bore")],
+    [("--cmm-stylus-radius-mm", "0.5"), ("--cmm-stylus-radius-mm", "2"), ("--cmm-datum", "bore")],
 )
 def test_cmm_scan_options_without_scans_are_refused(  # type: ignore[no-untyped-def]
     capsys,
@@ -473,7 +473,7 @@ def test_cmm_scan_options_without_scans_are_refused(  # type: ignore[no-untyped-
     option: str,
     value: str,
 ) -> None:
-    # They used to be ignored in silence (a NaN stylus radius included).
+    # They used to be ignored in silence (a NaN radius too, now refused as it is read).
     monkeypatch.chdir(tmp_path)
     code, _, err = _run(capsys, *command, option, value)
     assert code == 2 and len(err.strip().splitlines()) == 1

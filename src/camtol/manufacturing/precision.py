@@ -44,7 +44,7 @@ from camtol.jet import FloatArray
 from camtol.motion import LiftTable
 from camtol.table_noise import second_difference_gain, spline_acceleration_gain
 
-__all__ = ["DEFAULT_DECIMALS", "PrecisionRow", "PrecisionStudy", "table_precision"]
+__all__ = ["DEFAULT_DECIMALS", "MAX_DECIMALS", "PrecisionRow", "PrecisionStudy", "table_precision"]
 
 #: Decimals studied by default (Popa's 1e-3 ... 1e-6 mm). [-]
 DEFAULT_DECIMALS: tuple[int, ...] = (3, 4, 5, 6)
@@ -131,6 +131,10 @@ class PrecisionStudy:
     recommended_decimals: int | None
 
 
+#: Most decimals a lift table is rounded to (beyond, float64 holds no more digits).
+MAX_DECIMALS = 12
+
+
 def _central(y: FloatArray, step: float) -> tuple[FloatArray, FloatArray]:
     ya, yc = np.roll(y, 1), np.roll(y, -1)
     return (yc - ya) / (2.0 * step), (ya + yc - 2.0 * y) / step**2
@@ -138,9 +142,10 @@ def _central(y: FloatArray, step: float) -> tuple[FloatArray, FloatArray]:
 
 def _check(table_step_deg: float, decimals: Sequence[int], budget: float | None) -> int:
     n = check_step(table_step_deg, name="table_step_deg", min_points=8)
-    if not decimals or any(not (0 <= int(d) <= 12) or int(d) != d for d in decimals):
+    if not decimals or any(not (0 <= int(d) <= MAX_DECIMALS) or int(d) != d for d in decimals):
         raise DesignError(
-            f"decimals={list(decimals)} is not allowed; give whole numbers between 0 and 12"
+            f"decimals={list(decimals)} is not allowed; give whole numbers between 0 and"
+            f" {MAX_DECIMALS}"
         )
     if budget is not None and not (math.isfinite(budget) and budget > 0):
         raise DesignError(
