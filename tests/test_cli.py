@@ -300,6 +300,14 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
     [
         # each of these named the library's parameter, a converted value, or raised
         (
+            ["allocate", "--spec-deg", "0.05", "--yield", "1"],
+            "--yield=1 is not allowed; give a number > 0 and < 1",
+        ),
+        (
+            ["allocate", "--spec-deg", "0.05", "--seed", "-1"],
+            "--seed=-1 is not allowed; give a whole number ≥ 0",
+        ),
+        (
             ["simulate", "cmm", "-o", "s.csv", "--seed", "-1"],
             "--seed=-1 is not allowed; give a whole number ≥ 0",
         ),
@@ -382,8 +390,13 @@ def test_number_type_bounds_and_text() -> None:
     assert Number(low=1, integer=True).convert("3", None, None) == 3
     for bad in ("0", "5.5", "inf", "-inf", "nan"):
         with pytest.raises(
-            click.UsageError, match=r"--x=.* is not allowed; give a number from 0 to 5 in mm"
+            click.UsageError, match=r"--x=.* is not allowed; give a number > 0 and ≤ 5 in mm"
         ):
             opt.type.convert(bad, opt, None)
     assert Number(low=0, low_open=True, unit="%").allowed == "a percentage > 0"
     assert Number(high=3, integer=True).allowed == "a whole number ≤ 3"
+    open_both = Number(low=0, low_open=True, high=1, high_open=True)
+    assert open_both.allowed == "a number > 0 and < 1"
+    for bad in ("0", "1"):
+        with pytest.raises(click.UsageError, match="give a number > 0 and < 1"):
+            open_both.convert(bad, None, None)

@@ -139,7 +139,9 @@ class Number(click.ParamType):  # type: ignore[type-arg]  # generic from click 8
     low_open : bool
         Exclude ``low`` itself.
     high : float, optional
-        Largest value allowed.
+        Largest value allowed (``high_open``: values must be below it).
+    high_open : bool
+        Exclude ``high`` itself.
     integer : bool
         Whole numbers only (an ``int``).
     unit : str
@@ -152,18 +154,26 @@ class Number(click.ParamType):  # type: ignore[type-arg]  # generic from click 8
         low: float | None = None,
         low_open: bool = False,
         high: float | None = None,
+        high_open: bool = False,
         integer: bool = False,
         unit: str = "",
     ) -> None:
-        self.low, self.low_open, self.high, self.integer = low, low_open, high, integer
+        self.low, self.low_open, self.integer = low, low_open, integer
+        self.high, self.high_open = high, high_open
         self.name = "integer" if integer else "float"  # the usage's INTEGER / FLOAT
         what = "a whole number" if integer else "a percentage" if unit == "%" else "a number"
+        above = "" if low is None else f"{'>' if low_open else '≥'} {low:g}"
+        below = "" if high is None else f"{'<' if high_open else '≤'} {high:g}"
         if low is not None and high is not None:
-            bounds = f" from {low:g} to {high:g}"
+            bounds = (
+                f" from {low:g} to {high:g}"
+                if not (low_open or high_open)
+                else f" {above} and {below}"
+            )
         elif low is not None:
-            bounds = f" {'>' if low_open else '≥'} {low:g}"
+            bounds = f" {above}"
         else:
-            bounds = "" if high is None else f" ≤ {high:g}"
+            bounds = "" if high is None else f" {below}"
         self.allowed = what + bounds + (f" in {unit}" if unit and unit != "%" else "")
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
@@ -193,7 +203,7 @@ class Number(click.ParamType):  # type: ignore[type-arg]  # generic from click 8
         if (
             not math.isfinite(x)
             or (low is not None and (x <= low if self.low_open else x < low))
-            or (high is not None and x > high)
+            or (high is not None and (x >= high if self.high_open else x > high))
         ):
             raise click.UsageError(f"{flag}={x:g} is not allowed; give {self.allowed}", ctx)
         return x

@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from camtol.cli import EXIT_OK, _Exit, check_output_path, echo_json, fail, load_input, run_guarded
-from camtol.cli_options import design_options, step_option
+from camtol.cli_options import Number, design_options, step_option
 
 __all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
 
@@ -317,7 +317,7 @@ def montecarlo(
 @click.option(
     "--yield",
     "target_yield",
-    type=float,
+    type=Number(low=0, low_open=True, high=1, high_open=True),
     default=0.9973,
     show_default=True,
     help="Yield target of the monte_carlo criterion (0-1).",
@@ -325,7 +325,7 @@ def montecarlo(
 @click.option("--grades", default="IT5-IT12", show_default=True, help="Grade range, e.g. IT5-IT12.")
 @click.option(
     "--cost-exponent",
-    type=float,
+    type=Number(low=0, low_open=True),
     default=1.0,
     show_default=True,
     help="b in cost = sum a_k (T_coarsest/T_k)^b.",
@@ -339,13 +339,15 @@ def montecarlo(
 )
 @click.option(
     "--samples",
-    type=int,
+    type=Number(low=1, integer=True),
     default=20000,
     show_default=True,
     help="Samples per candidate (monte_carlo) .",
 )
-@click.option("--verify-samples", type=int, default=20000, show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option(
+    "--verify-samples", type=Number(low=1, integer=True), default=20000, show_default=True
+)
+@click.option("--seed", type=Number(low=0, integer=True), default=0, show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def allocate(
     design: str | None,
@@ -392,8 +394,6 @@ def allocate(
                 coef[k] = float(v)
             except ValueError:
                 fail(f"--cost={c!r}: give KEY=NUMBER, e.g. r=2")
-        if samples <= 0 or verify_samples <= 0:
-            fail("--samples and --verify-samples must be ≥ 1")
         res = run(
             d,
             spec,
