@@ -45,43 +45,18 @@ def design_options(f: F) -> F:
     return f
 
 
-def strict_option(f: F) -> F:
-    """Add --strict: a pressure angle beyond the design limit makes the exit status 1.
+#: ``--strict``: a pressure angle beyond the design limit makes the exit status 1.
+strict_option = click.option(
+    "--strict",
+    is_flag=True,
+    help="Exit with status 1 when a pressure angle exceeds the design limit"
+    " (operation.pressure_angle_limit_deg).",
+)
 
-    Parameters
-    ----------
-    f : callable
-        The command function.
-
-    Returns
-    -------
-    callable
-        ``f`` with the option added.
-    """
-    return click.option(
-        "--strict",
-        is_flag=True,
-        help="Exit with status 1 when a pressure angle exceeds the design limit"
-        " (operation.pressure_angle_limit_deg).",
-    )(f)
-
-
-def verbose_option(f: F) -> F:
-    """Add --verbose: also print the conventions in force.
-
-    Parameters
-    ----------
-    f : callable
-        The command function.
-
-    Returns
-    -------
-    callable
-        ``f`` with the option added.
-    """
-    return click.option(
-        "--verbose", "-v", is_flag=True, help="Also print the IT-grade conventions in force."
-    )(f)
+#: ``--verbose``: also print the conventions in force.
+verbose_option = click.option(
+    "--verbose", "-v", is_flag=True, help="Also print the IT-grade conventions in force."
+)
 
 
 def step_option(
