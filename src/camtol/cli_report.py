@@ -246,7 +246,7 @@ def _traceability_options(f: Any) -> Any:
 @click.option(
     "--montecarlo",
     "mc_samples",
-    type=int,
+    type=Number(low=1, integer=True),
     metavar="N",
     help="Add a linear Monte Carlo section with N samples (docs/tolerancing.md).",
 )
@@ -322,8 +322,6 @@ def report(
         guard_paths({"DESIGN": design, **csv_inputs}, {"--output": output})
         check_cmm_options(cmm_a, cmm_b, cmm_stylus_mm, cmm_datum)
         check_output_path(output, "--output", [".html", ".htm"])
-        if mc_samples is not None and mc_samples <= 0:
-            fail(f"--montecarlo={mc_samples} is not allowed; give a number of samples ≥ 1")
         mc_limits = {"--mc-spec-um": mc_spec_um, "--mc-spec-deg": mc_spec_deg, "--mc-band": mc_band}
         mc_given = [k for k, v in mc_limits.items() if v is not None]
         if mc_given and mc_samples is None:

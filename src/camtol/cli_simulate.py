@@ -8,7 +8,6 @@ Registered on the ``camtol`` group by :mod:`camtol.cli`.
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import click
@@ -68,21 +67,21 @@ def simulate() -> None:
 )
 @click.option(
     "--eccentricity-um",
-    type=float,
+    type=Number(unit="µm"),
     default=0.0,
     show_default=True,
     help="Placement offset of the cam centre on the machine [µm].",
 )
 @click.option(
     "--eccentricity-deg",
-    type=float,
+    type=Number(unit="deg"),
     default=0.0,
     show_default=True,
     help="Direction of the offset [deg].",
 )
 @click.option(
     "--rotation-deg",
-    type=float,
+    type=Number(unit="deg"),
     default=0.0,
     show_default=True,
     help="Placement rotation of the cam on the machine [deg].",
@@ -96,14 +95,14 @@ def simulate() -> None:
 )
 @click.option(
     "--error-rms-um",
-    type=float,
+    type=Number(low=0, unit="µm"),
     default=0.0,
     show_default=True,
     help="rms of a random Fourier profile error (harmonics 2-20, amplitude ∝ 1/k) [µm].",
 )
 @click.option(
     "--error-mean-um",
-    type=float,
+    type=Number(unit="µm"),
     default=0.0,
     show_default=True,
     help="Constant part of the profile error (material added) [µm].",
@@ -136,16 +135,6 @@ def simulate_cmm(
 
     def body() -> int:
         check_output_path(output, "--output", [".csv", ".txt"])
-        for name, v in (
-            ("--eccentricity-um", eccentricity_um),
-            ("--eccentricity-deg", eccentricity_deg),
-            ("--rotation-deg", rotation_deg),
-            ("--error-mean-um", error_mean_um),
-        ):
-            if not math.isfinite(v):
-                fail(f"{name}={v!r} must be a finite number")
-        if not (math.isfinite(error_rms_um) and error_rms_um >= 0):
-            fail(f"--error-rms-um={error_rms_um!r} is not allowed; give a number ≥ 0 µm")
         if outliers > points // 10:  # camtol.inspection.twin: a tenth of the points at most
             fail(
                 f"--outliers={outliers} is not allowed; give a whole number from 0 to"

@@ -12,7 +12,7 @@ from typing import Any
 import click
 
 from camtol.cli import EXIT_OK, _Exit, echo_json, load_input, run_guarded
-from camtol.cli_options import design_options, step_option
+from camtol.cli_options import Number, design_options, step_option
 
 __all__ = ["size", "sizing_hint"]
 
@@ -80,7 +80,7 @@ def sizing_hint(design: Any) -> str | None:
 @click.option(
     "--pressure-angle-limit",
     "limit_deg",
-    type=float,
+    type=Number(low=0, low_open=True, high=90, unit="deg"),
     metavar="DEG",
     help="Largest allowed |pressure angle| [deg] (default: the design's"
     " operation.pressure_angle_limit_deg, else 90).",
@@ -88,14 +88,14 @@ def sizing_hint(design: Any) -> str | None:
 @click.option(
     "--min-radius",
     "min_radius_mm",
-    type=float,
+    type=Number(low=0, low_open=True, unit="mm"),
     metavar="MM",
     help="Smallest allowed convex radius of curvature of the profile [mm].",
 )
 @click.option(
     "--cutter-radius",
     "cutter_radius_mm",
-    type=float,
+    type=Number(low=0, low_open=True, unit="mm"),
     metavar="MM",
     help="Cutter or wheel radius; concave stretches must be at least this flat [mm].",
 )
@@ -123,19 +123,8 @@ def size(
     """
 
     def body() -> int:
-        from camtol.exceptions import DesignError
         from camtol.sizing import minimum_base_radius
 
-        for flag, value, upper in (
-            ("--pressure-angle-limit", limit_deg, 90.0),
-            ("--min-radius", min_radius_mm, math.inf),
-            ("--cutter-radius", cutter_radius_mm, math.inf),
-        ):
-            if value is not None and not (math.isfinite(value) and 0 < value <= upper):
-                raise DesignError(
-                    f"{flag}={value!r} is not allowed; give a positive number"
-                    + (f" up to {upper:g}" if math.isfinite(upper) else "")
-                )
         d = load_input(design, example)
         r = minimum_base_radius(
             d,

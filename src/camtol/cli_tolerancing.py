@@ -215,9 +215,21 @@ def _print(shown: Any) -> None:
 
 @click.command()
 @design_options
-@click.option("--samples", "-n", type=int, required=True, help="Number of sampled mechanisms.")
+@click.option(
+    "--samples",
+    "-n",
+    type=Number(low=1, integer=True),
+    required=True,
+    help="Number of sampled mechanisms.",
+)
 @click.option("--mode", type=click.Choice(["linear", "exact"]), default="linear", show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random streams.")
+@click.option(
+    "--seed",
+    type=Number(low=0, integer=True),
+    default=0,
+    show_default=True,
+    help="Seed of the random streams.",
+)
 @click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um] (gives the yield).")
 @click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
 @click.option(
@@ -230,7 +242,13 @@ def _print(shown: Any) -> None:
 @click.option("--curves", metavar="FILE.csv", help="Write per-angle statistics and shares.")
 @click.option("--plot", metavar="FILE.png", help="Write the band figure (PNG, SVG, PDF).")
 @click.option("--scheduler", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786.")
-@click.option("--workers", type=int, default=1, show_default=True, help="Local threads.")
+@click.option(
+    "--workers",
+    type=Number(low=1, integer=True),
+    default=1,
+    show_default=True,
+    help="Local threads.",
+)
 @click.option(
     "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."
 )
@@ -256,12 +274,6 @@ def montecarlo(
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
-        if samples <= 0:
-            fail(f"--samples={samples} is not allowed; give a whole number ≥ 1")
-        if seed < 0:
-            fail(f"--seed={seed} is not allowed; give a whole number ≥ 0")
-        if workers < 1:
-            fail(f"--workers={workers} is not allowed; give 1 or more")
         d = load_input(design, example)
         spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         limits = band_option(d, band, spec)
