@@ -136,5 +136,9 @@ def test_bad_inputs_name_the_field() -> None:
         table_precision(d, table_step_deg=7.0)
     with pytest.raises(DesignError, match="decimals"):
         table_precision(d, decimals=[3, 13])
+    for bad in (math.nan, math.inf, 3.5, "3", True):  # nan and inf raised ValueError, OverflowError
+        with pytest.raises(DesignError, match="decimals=.* is not allowed"):
+            table_precision(d, decimals=[bad])  # type: ignore[list-item]
+    assert [r.decimals for r in table_precision(d, decimals=[np.int64(3), 6.0]).rows] == [3, 6]
     with pytest.raises(DesignError, match="accel_budget_pct"):
         table_precision(d, accel_budget_pct=-1.0)

@@ -142,7 +142,13 @@ def _central(y: FloatArray, step: float) -> tuple[FloatArray, FloatArray]:
 
 def _check(table_step_deg: float, decimals: Sequence[int], budget: float | None) -> int:
     n = check_step(table_step_deg, name="table_step_deg", min_points=8)
-    if not decimals or any(not (0 <= int(d) <= MAX_DECIMALS) or int(d) != d for d in decimals):
+    # Compared as numbers, never through int(): int(nan) and int(inf) raise.
+    if not decimals or not all(
+        not isinstance(d, bool)
+        and isinstance(d, int | float | np.integer | np.floating)
+        and d in range(MAX_DECIMALS + 1)
+        for d in decimals
+    ):
         raise DesignError(
             f"decimals={list(decimals)} is not allowed; give whole numbers between 0 and"
             f" {MAX_DECIMALS}"
