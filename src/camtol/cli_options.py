@@ -20,7 +20,14 @@ from typing import Any, TypeVar
 
 import click
 
-__all__ = ["Number", "design_options", "step_option", "strict_option", "verbose_option"]
+__all__ = [
+    "Number",
+    "design_options",
+    "seed_option",
+    "step_option",
+    "strict_option",
+    "verbose_option",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -182,3 +189,13 @@ class Number(click.ParamType):  # type: ignore[type-arg]  # generic from click 8
         ):
             raise click.UsageError(f"{flag}={x:g} is not allowed; give {self.allowed}", ctx)
         return x
+
+
+#: ``--seed``: the seed of a command's random streams (a whole number ≥ 0), default 0.
+seed_option = click.option(
+    "--seed",
+    type=Number(low=0, integer=True),
+    default=0,
+    show_default=True,
+    help="Seed of the random streams.",
+)

@@ -13,7 +13,7 @@ from pathlib import Path
 import click
 
 from camtol.cli import EXIT_OK, _Exit, check_output_path, fail, load_input, run_guarded
-from camtol.cli_options import Number, design_options
+from camtol.cli_options import Number, design_options, seed_option
 
 __all__ = ["simulate"]
 
@@ -54,9 +54,7 @@ def simulate() -> None:
     show_default=True,
     help="Probe noise along the normal (standard deviation) [µm].",
 )
-@click.option(
-    "--seed", type=Number(low=0, integer=True), default=0, show_default=True, help="Random seed."
-)
+@seed_option
 @click.option(
     "--stylus-radius-mm",
     "stylus_mm",
@@ -209,9 +207,7 @@ def simulate_cmm(
     show_default=True,
     help="Samples per revolution (4 rev/h at 5 Hz: 4500).",
 )
-@click.option(
-    "--seed", type=Number(low=0, integer=True), default=0, show_default=True, help="Random seed."
-)
+@seed_option
 def simulate_record_cmd(
     design: str | None,
     example: str | None,

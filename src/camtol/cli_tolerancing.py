@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from camtol.cli import EXIT_OK, _Exit, check_output_path, echo_json, fail, load_input, run_guarded
-from camtol.cli_options import Number, design_options, step_option
+from camtol.cli_options import Number, design_options, seed_option, step_option
 
 __all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
 
@@ -223,13 +223,7 @@ def _print(shown: Any) -> None:
     help="Number of sampled mechanisms.",
 )
 @click.option("--mode", type=click.Choice(["linear", "exact"]), default="linear", show_default=True)
-@click.option(
-    "--seed",
-    type=Number(low=0, integer=True),
-    default=0,
-    show_default=True,
-    help="Seed of the random streams.",
-)
+@seed_option
 @click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um] (gives the yield).")
 @click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
 @click.option(
@@ -359,7 +353,7 @@ def montecarlo(
 @click.option(
     "--verify-samples", type=Number(low=1, integer=True), default=20000, show_default=True
 )
-@click.option("--seed", type=Number(low=0, integer=True), default=0, show_default=True)
+@seed_option
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def allocate(
     design: str | None,
