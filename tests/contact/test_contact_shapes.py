@@ -214,3 +214,55 @@ def test_point_cloud_in_any_order(rng: np.random.Generator) -> None:
     # Same cyclic sequence of vertices.
     start = int(np.argmin(np.hypot(*(cloud.vertices_mm - ordered.vertices_mm[0]).T)))
     np.testing.assert_allclose(np.roll(cloud.vertices_mm, -start, axis=0), ordered.vertices_mm)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(3, 400), st.floats(-math.pi, math.pi), st.integers(0, 2**32 - 1))
+def test_convex_hull_normals_are_numpys_unwrap(m: int, start: float, seed: int) -> None:
+    # A convex counterclockwise polygon takes the O(M) branch, whose normals come from
+    # the edge angles and their wrapped turns; they must be numpy's unwrap exactly.
+    rng = np.random.default_rng(seed)
+    t = start + np.sort(rng.uniform(0, 2 * math.pi, m))
+    verts = np.column_stack([40 * np.cos(t), 25 * np.sin(t)])
+    poly = PolygonShape(verts)
+    if not poly.is_convex:  # nearly coincident draws can leave a collinear triple
+        return
+    v = poly.vertices_mm
+    e = np.roll(v, -1, axis=0) - v
+    expected = np.unwrap(np.arctan2(e[:, 1], e[:, 0])) - 0.5 * math.pi
+    np.testing.assert_array_equal(poly._hull[1], expected)
+
+
+def test_unwrap_from_turns_equals_numpy(rng: np.random.Generator) -> None:
+    from camtol.contact.polygon import _edges, _unwrap
+
+    for n in (2, 3, 50, 1000):
+        ang = rng.uniform(-math.pi, math.pi, n)
+        ang[::5] = rng.choice([-math.pi, math.pi], ang[::5].size)  # numpy's ±π rule
+        turn = np.mod(_edges(ang) + math.pi, 2 * math.pi) - math.pi
+        np.testing.assert_array_equal(_unwrap(ang, turn), np.unwrap(ang))
+
+
+def test_support_carries_its_directions_and_polygon_constants(rng: np.random.Generator) -> None:
+    psi = rng.uniform(-7, 7, 500)
+    poly = PolygonShape(star_polygon(rng, 300, 40.0, 5.0))
+    d = cw06_translating()
+    analytic = AnalyticShape(d.mechanism, d.program)
+    for sup in (poly.support(psi), poly.support_bruteforce(psi), analytic.support(psi)):
+        np.testing.assert_array_equal(sup.normal_x, np.cos(psi))
+        np.testing.assert_array_equal(sup.normal_y, np.sin(psi))
+    sup = poly.support(psi)
+    # Straight edges: the contact is the vertex (its own centre, ρ = 0), shared read-only.
+    np.testing.assert_array_equal(sup.contact_x_mm, poly.vertices_mm[sup.feature, 0])
+    np.testing.assert_array_equal(sup.contact_y_mm, sup.centre_y_mm)
+    assert np.all(sup.radius_mm == 0.0) and np.all(np.isnan(sup.param_rad))
+    assert not sup.contact_x_mm.flags.writeable
+
+
+def test_polygon_keeps_its_own_copy_of_the_vertices() -> None:
+    verts = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]])
+    poly = PolygonShape(verts)
+    verts[0] = [50.0, 50.0]
+    assert poly.vertices_mm[0].tolist() == [0.0, 0.0]
+    with pytest.raises(InputFileError, match="at least 3"):
+        PolygonShape(np.zeros((0, 2)))

@@ -98,10 +98,18 @@ def follow_flat_translating(
     cphi = math.cos(phi)
     psi = theta + phi
     sup = support(shape, psi, left_limit)
-    lift = (sup.h_mm - e * math.sin(phi)) / cphi - zero
-    c, s = np.cos(psi), np.sin(psi)
-    vel = (-sup.centre_x_mm * s + sup.centre_y_mm * c) / cphi
-    acc = -(sup.centre_x_mm * c + sup.centre_y_mm * s) / cphi
+    c, s = sup.normal_x, sup.normal_y
+    cx, cy = sup.centre_x_mm, sup.centre_y_mm
+    # In place: on long grids every fresh array costs page faults.
+    lift = sup.h_mm - e * math.sin(phi)
+    lift /= cphi
+    lift -= zero
+    vel = cy * c
+    vel -= cx * s
+    vel /= cphi
+    acc = cx * c
+    acc += cy * s
+    acc /= -cphi
     return FollowerMotion(
         theta_rad=theta,
         motion=MotionState(lift, vel, acc, np.full_like(lift, np.nan)),
@@ -219,7 +227,7 @@ def follow_flat_oscillating(
         )
     psi = theta + 0.5 * math.pi - xi
     sup = support(shape, psi, left_limit)
-    n_x, n_y = np.cos(psi), np.sin(psi)
+    n_x, n_y = sup.normal_x, sup.normal_y
     c_n = sup.centre_x_mm * n_x + sup.centre_y_mm * n_y
     c_dn = -sup.centre_x_mm * n_y + sup.centre_y_mm * n_x
     v, acc = implicit_derivatives(

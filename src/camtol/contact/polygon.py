@@ -52,6 +52,9 @@ class Support:
         analytic shape.
     param_rad : ndarray
         Profile parameter t of X* for an analytic shape; NaN for a polygon. [rad]
+    normal_x, normal_y : ndarray
+        The direction n(ψ) = (cos ψ, sin ψ) itself, for the callers' formulas (so that
+        they need not evaluate the sine and cosine again). [1]
     """
 
     h_mm: FloatArray
@@ -62,6 +65,8 @@ class Support:
     radius_mm: FloatArray
     feature: IntArray
     param_rad: FloatArray
+    normal_x: FloatArray
+    normal_y: FloatArray
 
 
 def sweep_rank(sorted_mm: FloatArray, query: FloatArray) -> IntArray:
@@ -90,6 +95,35 @@ def sweep_rank(sorted_mm: FloatArray, query: FloatArray) -> IntArray:
     rank = np.empty(query.size, dtype=np.intp)
     rank[order] = pos - np.arange(query.size)
     return rank
+
+
+def _edges(a: FloatArray) -> FloatArray:
+    """Return a[i+1] − a[i] along the first axis, closing the loop (a[0] − a[M−1])."""
+    d = np.empty_like(a)
+    np.subtract(a[1:], a[:-1], out=d[:-1])
+    np.subtract(a[:1], a[-1:], out=d[-1:])
+    return d
+
+
+def _unwrap(ang: FloatArray, turn: FloatArray) -> FloatArray:
+    """``np.unwrap(ang)`` from the wrapped differences ``turn`` already at hand.
+
+    ``turn[i]`` is ``ang[i+1] − ang[i]`` wrapped into [−π, π). numpy corrects every
+    difference of π or more by a multiple of 2π; on a convex outline that happens once or
+    twice (where the edge angle crosses ±π), so the corrections are added run by run, not
+    as a cumulative sum over every vertex: the same numbers as numpy's.
+    """
+    dd = np.diff(ang)
+    jumps = np.flatnonzero(np.abs(dd) >= math.pi)
+    out = ang.copy()
+    if jumps.size == 0:
+        return out
+    wrapped = turn[jumps]
+    wrapped[(wrapped == -math.pi) & (dd[jumps] > 0)] = math.pi  # numpy's choice at ±π
+    correction = np.cumsum(wrapped - dd[jumps])
+    for start, stop, c in zip(jumps + 1, [*(jumps[1:] + 1), ang.size], correction, strict=True):
+        out[start:stop] += c
+    return out
 
 
 # ---------------------------------------------------------------------------------------
@@ -135,16 +169,21 @@ class PolygonShape:
             raise InputFileError(
                 f"shape bulges: expected {v.shape[0]} values (one per edge), got {b.size}"
             )
-        if not (np.all(np.isfinite(v)) and np.all(np.isfinite(b))):
+        if v.shape[0] < 3:
+            raise InputFileError("a shape needs at least 3 distinct vertices")
+        scale = float(np.max(np.abs(v)))
+        if not (math.isfinite(scale) and np.all(np.isfinite(b))):  # max|v| is NaN or inf
             raise InputFileError("shape vertices and bulges must be finite numbers")
-        scale = float(np.max(np.abs(v))) if v.size else 0.0
-        nxt = np.roll(v, -1, axis=0)
-        keep = np.hypot(*(nxt - v).T) > 1e-12 * max(scale, 1.0)
-        v, b = v[keep], b[keep]
+        # Edges by slices, not np.roll: the 36,000-vertex polygons of the contact
+        # benchmark spend more in copies than in arithmetic.
+        d = _edges(v)
+        length2 = np.einsum("ij,ij->i", d, d)
+        keep = length2 > (1e-12 * max(scale, 1.0)) ** 2
+        v, b = (v[keep], b[keep]) if not keep.all() else (v.copy(), b.copy())
         if v.shape[0] < 3:
             raise InputFileError("a shape needs at least 3 distinct vertices")
         x, y = v[:, 0], v[:, 1]
-        area2 = float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+        area2 = float(x[:-1] @ y[1:] - y[:-1] @ x[1:]) + float(x[-1] * y[0] - y[-1] * x[0])
         if area2 < 0:
             v = v[::-1].copy()
             b = -np.roll(b[::-1], -1)
@@ -204,21 +243,27 @@ class PolygonShape:
     def _hull(self) -> tuple[IntArray, FloatArray]:
         """Hull vertex indices (counterclockwise) and unwrapped outward edge-normal angles."""
         v = self.vertices_mm
-        e = np.roll(v, -1, axis=0) - v
-        e_next = np.roll(e, -1, axis=0)
-        cross = e[:, 0] * e_next[:, 1] - e[:, 1] * e_next[:, 0]
+        e = _edges(v)
         ang = np.arctan2(e[:, 1], e[:, 0])
-        turn = np.mod(np.diff(np.append(ang, ang[0])) + math.pi, TWO_PI) - math.pi
-        scale = float(np.max(np.hypot(e[:, 0], e[:, 1]))) ** 2
+        turn = _edges(ang)  # turn of the edge direction at each vertex, in [−π, π)
+        np.add(turn, math.pi, out=turn)
+        np.mod(turn, TWO_PI, out=turn)
+        np.subtract(turn, math.pi, out=turn)
+        cross = e[:, 0] * np.roll(e[:, 1], -1)
+        cross -= e[:, 1] * np.roll(e[:, 0], -1)
+        scale = float(np.max(np.einsum("ij,ij->i", e, e)))
         if np.all(cross >= -1e-13 * scale) and abs(float(np.sum(turn)) - TWO_PI) < 1e-6:
-            hull = np.arange(v.shape[0])  # already convex and counterclockwise: O(M)
+            # Already convex and counterclockwise: O(M), and the edge angles are known.
+            hull = np.arange(v.shape[0])
+            normal = _unwrap(ang, turn)
         else:
             from scipy.spatial import ConvexHull
 
             hull = np.asarray(ConvexHull(v).vertices, dtype=np.intp)  # counterclockwise
-        hv = v[hull]
-        he = np.roll(hv, -1, axis=0) - hv
-        normal = np.unwrap(np.arctan2(he[:, 1], he[:, 0]) - 0.5 * math.pi)
+            he = _edges(v[hull])
+            hang = np.arctan2(he[:, 1], he[:, 0])
+            normal = np.unwrap(hang)
+        normal -= 0.5 * math.pi
         return hull, normal
 
     @property
@@ -317,24 +362,41 @@ class PolygonShape:
     ) -> Support:
         c, s = np.cos(psi), np.sin(psi)
         v = self.vertices_mm
-        cx = v[vert, 0].copy()
-        cy = v[vert, 1].copy()
-        h = cx * c + cy * s
+        cx = v[vert, 0]
+        cy = v[vert, 1]
+        h = cx * c
+        h += cy * s
+        feature = vert  # a fresh array, the caller's to keep
+        if arc_best is None:  # straight edges only: the contact is a vertex, ρ = 0
+            # Contact and centre are the same point: one read-only array for both, and
+            # read-only broadcasts for the constants (a full array each is a page-fault
+            # cost on long grids, for nothing).
+            cx.flags.writeable = cy.flags.writeable = False
+            return Support(
+                h_mm=h,
+                contact_x_mm=cx,
+                contact_y_mm=cy,
+                centre_x_mm=cx,
+                centre_y_mm=cy,
+                radius_mm=np.broadcast_to(0.0, h.shape),
+                feature=feature,
+                param_rad=np.broadcast_to(math.nan, h.shape),
+                normal_x=c,
+                normal_y=s,
+            )
         rad = np.zeros_like(h)
-        feature = vert.copy()
-        if arc_best is not None:
-            q, val, arc_no = arc_best
-            best = np.full(psi.size, -np.inf)
-            np.maximum.at(best, q, val)
-            # Ties at an arc's end (its own end vertex) go to the arc, whose curvature is
-            # the right one-sided value on a tangent-continuous outline.
-            tie = 1e-12 * (1.0 + np.abs(h[q]))
-            win = (val == best[q]) & (val >= h[q] - tie)
-            q, arc_no = q[win], arc_no[win]
-            idx, acx, acy, radius, _ = self.arcs
-            cx[q], cy[q], rad[q] = acx[arc_no], acy[arc_no], radius[arc_no]
-            h[q] = np.maximum(best[q], h[q])
-            feature[q] = self.size + idx[arc_no]
+        q, val, arc_no = arc_best
+        best = np.full(psi.size, -np.inf)
+        np.maximum.at(best, q, val)
+        # Ties at an arc's end (its own end vertex) go to the arc, whose curvature is
+        # the right one-sided value on a tangent-continuous outline.
+        tie = 1e-12 * (1.0 + np.abs(h[q]))
+        win = (val == best[q]) & (val >= h[q] - tie)
+        q, arc_no = q[win], arc_no[win]
+        idx, acx, acy, radius, _ = self.arcs
+        cx[q], cy[q], rad[q] = acx[arc_no], acy[arc_no], radius[arc_no]
+        h[q] = np.maximum(best[q], h[q])
+        feature[q] = self.size + idx[arc_no]
         return Support(
             h_mm=h,
             contact_x_mm=cx + rad * c,
@@ -344,4 +406,6 @@ class PolygonShape:
             radius_mm=rad,
             feature=feature,
             param_rad=np.full(h.shape, np.nan),
+            normal_x=c,
+            normal_y=s,
         )

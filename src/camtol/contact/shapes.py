@@ -323,4 +323,6 @@ class AnalyticShape:
             radius_mm=rho,
             feature=np.full(h.shape, -1, dtype=np.intp),
             param_rad=t,
+            normal_x=nx,
+            normal_y=ny,
         )
