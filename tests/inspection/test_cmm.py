@@ -408,7 +408,7 @@ def test_fourier_fit_normal_equations_from_moments_equal_least_squares(
 
 
 def test_harmonic_table_recurrence_matches_the_trigonometric_functions() -> None:
-    # The recurrence e^{ikt} = e^{i(k-1)t} e^{it} accumulates rounding like k·eps; the
+    # The powers of e^{it} (by doubling) accumulate rounding like k·eps; the
     # reference cos(k·t) carries the rounding of the product k·t (up to k·2π·eps/2). Over
     # one revolution at K = 400 both together stay below 2π·K·eps (2.8e-13; seen 1.3e-13).
     from camtol.inspection.functional import harmonic_table
