@@ -84,16 +84,17 @@ def test_isolated_plateau_points_print_as_single_angles() -> None:
     assert e.where == "139.80°, 143.00-168.00°"
 
 
+@pytest.mark.parametrize("n", [257, 20_003])  # one row block, and three (the last short)
 @pytest.mark.parametrize(
     "kinds",
     [("array", "array", "array"), ("const", "array", "const"), ("const", "const"), ("array",)],
 )
-def test_worst_case_and_rms_are_the_plain_sums_bit_for_bit(kinds: tuple[str, ...]) -> None:
+def test_worst_case_and_rms_are_the_plain_sums_bit_for_bit(kinds: tuple[str, ...], n: int) -> None:
     """Σ|ΔS_p| and sqrt(Σ ΔS_p²) over array and constant sensitivities, in source order."""
-    from camtol.errors import ErrorAnalysis, SourceError
+    from camtol.errors import _SUM_ROWS, ErrorAnalysis, SourceError
 
+    assert 257 < _SUM_ROWS < 20_003 // 2
     rng = np.random.default_rng(17)
-    n = 257
     sources = {}
     for i, kind in enumerate(kinds):
         s = rng.normal(size=n) if kind == "array" else np.broadcast_to(rng.normal(), (n,))
@@ -107,3 +108,23 @@ def test_worst_case_and_rms_are_the_plain_sums_bit_for_bit(kinds: tuple[str, ...
     for order in (0, 1, 2):
         np.testing.assert_array_equal(err.worst(order), worst)
         np.testing.assert_array_equal(err.rms(order), np.sqrt(squares))
+        # Into a caller's array (what the extremes' scan reuses): the same numbers.
+        out = np.full(n, np.nan)
+        assert err.worst(order, out=out) is out
+        np.testing.assert_array_equal(out, worst)
+        assert err.rms(order, out=out) is out
+        np.testing.assert_array_equal(out, np.sqrt(squares))
+
+
+def test_extremes_of_a_broadcast_constant_are_those_of_the_full_array() -> None:
+    # A constant sensitivity (ΔS_e of a translating follower) is a read-only broadcast;
+    # the search takes it without a pass and must report what it reports for an array.
+    theta = np.radians(np.arange(0, 360.5, 0.5))
+
+    def never(t: np.ndarray, names: frozenset[str]) -> dict[str, np.ndarray]:
+        return {k: np.full(t.shape, 0.25) for k in names}
+
+    got = find_extremes(theta, {"c": np.broadcast_to(0.25, theta.shape)}, never, step_deg=0.5)
+    ref = find_extremes(theta, {"c": np.full(theta.shape, 0.25)}, never, step_deg=0.5)
+    assert got == ref
+    assert got["c"][0].ranges_deg == ((0.0, 360.0),) and got["c"][1].value == 0.25

@@ -334,8 +334,11 @@ class Curves(Mapping[str, FloatArray]):
         src = self._err.sources.get(name) if name not in ("worst", "rms") else None
         return None if src is None else src.deviation
 
-    def _base(self, key: str) -> tuple[FloatArray, float | None]:
-        """Return (stored array, the source's deviation or None); the curve is their product."""
+    def _base(self, key: str, out: FloatArray | None = None) -> tuple[FloatArray, float | None]:
+        """Return (stored array, the source's deviation or None); the curve is their product.
+
+        A worst case or RMS is computed into ``out`` when given (a scan's reused array).
+        """
         if key not in self._keys:
             raise KeyError(key)
         kin, err = self._kin, self._err
@@ -354,9 +357,9 @@ class Curves(Mapping[str, FloatArray]):
         prefix, name = key.split("_", 1)
         order = "SVA".index(prefix[1])
         if name == "worst":
-            return err.worst(order), None
+            return err.worst(order, out=out), None
         if name == "rms":
-            return err.rms(order), None
+            return err.rms(order, out=out), None
         src = err.sources[name]
         sens = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
         return np.asarray(sens), src.deviation
@@ -395,12 +398,16 @@ def _extremes(
     labels = {q.key: q.label for q in quantities}
     factors = {k: curves._deviation(k) for k in keys}  # a source's deviation, else None
 
-    def pick(c: Curves, key: str) -> FloatArray:
-        return c[key] if factors[key] == 0.0 else c._base(key)[0]
+    def pick(c: Curves, key: str, out: FloatArray | None = None) -> FloatArray:
+        return c[key] if factors[key] == 0.0 else c._base(key, out)[0]
+
+    # The search reads one curve at a time and is done with it before the next: the
+    # computed ones (worst case, RMS) share one array instead of a fresh one each.
+    scratch = np.empty(theta_rad.shape)
 
     class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
         def __getitem__(self, key: str) -> FloatArray:
-            return pick(curves, key)
+            return pick(curves, key, scratch)
 
         def __iter__(self) -> Iterator[str]:
             return iter(keys)

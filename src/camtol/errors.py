@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from types import EllipsisType
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,6 +27,10 @@ from camtol.jet import FloatArray, Jet, JetLike
 from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["ErrorAnalysis", "SourceError", "error_analysis", "errors_from_sensitivities"]
+
+#: Rows summed at a time by :meth:`ErrorAnalysis.worst` and :meth:`ErrorAnalysis.rms`
+#: (their one temporary stays in a core's cache).
+_SUM_ROWS = 8_192
 
 
 @dataclass(frozen=True)
@@ -111,73 +116,95 @@ class ErrorAnalysis:
     left_limit: NDArray[np.bool_]
     sources: dict[str, SourceError]
 
-    def worst(self, order: int) -> FloatArray:
+    def worst(self, order: int, *, out: FloatArray | None = None) -> FloatArray:
         """Worst case Σ_p |d^k ΔS_p/dθ^k| of derivative order k (0, 1, 2).
 
         Parameters
         ----------
         order : {0, 1, 2}
             Derivative order.
+        out : ndarray, optional
+            Array of the grid's shape to write the result into (a caller scanning many
+            curves reuses one); a new array by default.
 
         Returns
         -------
         ndarray
             [output unit per rad^order]
         """
-        return self._sum(order, squares=False)
+        return self._sum(order, squares=False, out=out)
 
-    def rms(self, order: int) -> FloatArray:
+    def rms(self, order: int, *, out: FloatArray | None = None) -> FloatArray:
         """RMS sqrt(Σ_p (d^k ΔS_p/dθ^k)²) of derivative order k (0, 1, 2).
 
         Parameters
         ----------
         order : {0, 1, 2}
             Derivative order.
+        out : ndarray, optional
+            As for :meth:`worst`.
 
         Returns
         -------
         ndarray
             [output unit per rad^order]
         """
-        out = self._sum(order, squares=True)
-        return np.sqrt(out, out=out)
+        result = self._sum(order, squares=True, out=out)
+        return np.sqrt(result, out=result)
 
-    def _sum(self, order: int, *, squares: bool) -> FloatArray:
+    def _sum(self, order: int, *, squares: bool, out: FloatArray | None) -> FloatArray:
         """Σ_p |d^k ΔS_p| (or Σ_p (d^k ΔS_p)² with ``squares``), one array pass per source."""
         # The first array term is the sum's start (0 + p is p: every term is ≥ +0 or NaN),
         # the constants are added as scalars, in the sources' order as ever.
-        out: FloatArray | None = None
-        part: FloatArray | None = None
+        steps: list[tuple[FloatArray, float] | float] = []  # array terms and constants
         held = 0.0  # constant terms met before the first array term
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
             c = _constant(s)
-            if c is not None:  # a broadcast constant: one scalar, not an array pass
-                if c != 0.0:
-                    d = c * src.deviation
-                    term = d * d if squares else abs(c) * abs(src.deviation)
-                    if out is None:
-                        held += term
-                    else:
-                        out += term
-                continue
-            if part is None:
-                part = np.empty(self.theta_rad.shape)
-            if squares:
-                np.multiply(s, src.deviation, out=part)
-                part *= part
-            else:
-                np.abs(s, out=part)
-                part *= abs(src.deviation)
-            if out is None:
-                out, part = part, None
-                if held != 0.0:
-                    out += held
-            else:
-                out += part
-        if out is None:
-            return np.full(self.theta_rad.shape, held)
-        return out
+            if c is None:
+                steps.append((s, src.deviation))
+            elif c != 0.0:  # a broadcast constant: one scalar, not an array pass
+                d = c * src.deviation
+                term = d * d if squares else abs(c) * abs(src.deviation)
+                if steps:
+                    steps.append(term)
+                else:
+                    held += term
+        result = np.empty(self.theta_rad.shape) if out is None else out
+        if not steps:
+            result[...] = held
+            return result
+        # Row blocks with one cache-sized temporary: the same operations in the same order
+        # on every row (the same numbers), and no full-length temporary, whose fresh pages
+        # cost more than the arithmetic on long grids.
+        n = result.shape[0] if result.ndim == 1 else 0
+        blocks: list[slice | EllipsisType] = [
+            slice(a, min(n, a + _SUM_ROWS)) for a in range(0, n, _SUM_ROWS)
+        ] or [...]  # not one-dimensional: one block
+        part = np.empty(result[blocks[0]].shape)
+        for rows in blocks:
+            acc = result[rows]
+            tmp = part[: acc.shape[0]]
+            first = True
+            for step in steps:
+                if isinstance(step, float):
+                    acc += step
+                    continue
+                sens, dev = step
+                into = acc if first else tmp
+                if squares:
+                    np.multiply(sens[rows], dev, out=into)
+                    into *= into
+                else:
+                    np.abs(sens[rows], out=into)
+                    into *= abs(dev)
+                if first:
+                    first = False
+                    if held != 0.0:
+                        acc += held
+                else:
+                    acc += tmp
+        return result
 
     @property
     def worst_lift(self) -> FloatArray:

@@ -134,9 +134,9 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
 
 
 def _plateaus(
-    theta_rad: FloatArray, held: NDArray[np.bool_], step_deg: float
+    theta_rad: FloatArray, runs: list[tuple[int, int]], step_deg: float
 ) -> tuple[tuple[float, float], ...]:
-    runs = _runs(held)
+    """Angle ranges of index runs [i, j] of held samples; () unless one is longer than a step."""
     spans = [(math.degrees(theta_rad[i]), math.degrees(theta_rad[j])) for i, j in runs]
     # A run reaching the end of the grid continues into one starting at 0° (the grid may
     # or may not hold 360° itself).
@@ -199,6 +199,15 @@ def find_extremes(
     centres: dict[float, int] = {}  # window centre [rad] -> window index
     for name, vals in values.items():
         v = np.asarray(vals, dtype=float)
+        if v.ndim == 1 and v.size and v.strides == (0,) and math.isfinite(float(v[0])):
+            # A broadcast constant (e.g. ΔS_e of a translating follower) is held over the
+            # whole grid: no pass over it (numpy would copy it first, a page per 512 rows).
+            c, whole = float(v[0]), _plateaus(theta_rad, [(0, v.size - 1)], step_deg)
+            for kind in ("max", "min"):
+                pending.append((name, kind, c, float(theta_rad[0]), whole))
+            if not whole:  # a grid of a single step: refine as any other extreme
+                centres.setdefault(float(theta_rad[0]), len(centres))
+            continue
         hi, lo = int(np.argmax(v)), int(np.argmin(v))  # NaN or ±inf would be picked
         if not (math.isfinite(v[hi]) and math.isfinite(v[lo])):
             finite = np.isfinite(v)
@@ -218,7 +227,7 @@ def find_extremes(
             held = v >= target - tol if kind == "max" else v <= target + tol
             ranges: tuple[tuple[float, float], ...] = ()
             if np.count_nonzero(held) > 1:
-                ranges = _plateaus(theta_rad, held, step_deg)
+                ranges = _plateaus(theta_rad, _runs(held), step_deg)
             if not ranges:
                 centres.setdefault(float(theta_rad[i]), len(centres))
             pending.append((name, kind, target, float(theta_rad[i]), ranges))

@@ -84,7 +84,10 @@ def _peak(values: FloatArray, theta_rad: FloatArray, *, scale: float = 1.0) -> P
     Only the two values found are scaled and converted (``math.degrees`` is numpy's
     ``degrees``, bit for bit), not the whole grid.
     """
-    i, j = int(np.argmax(values)), int(np.argmin(values))
+    if values.ndim == 1 and values.strides == (0,):  # a broadcast constant: no copy
+        i = j = 0  # what argmax and argmin give (NaN included)
+    else:
+        i, j = int(np.argmax(values)), int(np.argmin(values))
     return Peak(
         float(values[i]) * scale,
         float(values[j]) * scale,
@@ -251,9 +254,14 @@ def cam_geometry(
         Pressure-angle range, smallest convex and concave radii with their angles, undercut.
     """
     theta, rho = kin.theta_rad, kin.curvature_radius_mm
-    # A comparison with NaN is False: NaN rows count as neither side, as ±inf ones.
-    convex, convex_at = _smallest(np.where(rho > 0.0, rho, np.inf), theta)
-    concave, concave_at = _smallest(np.where(rho < 0.0, -rho, np.inf), theta)
+    # A comparison with NaN is False: NaN rows count as neither side, as ±inf ones. One
+    # array serves both sides (fresh full-length arrays cost page faults on long grids).
+    side = np.array(rho, dtype=float)
+    side[~(rho > 0.0)] = np.inf
+    convex, convex_at = _smallest(side, theta)
+    np.negative(rho, out=side)
+    side[~(side > 0.0)] = np.inf  # −ρ > 0 where ρ < 0
+    concave, concave_at = _smallest(side, theta)
     roller = getattr(mechanism, "roller_radius_mm", None)
     if roller is None:
         convex_limit = "a flat face needs ρ > 0 everywhere (cusp or undercut otherwise)"
