@@ -22,7 +22,7 @@ from camtol.cli import (
     load_checked,
     run_guarded,
 )
-from camtol.cli_options import Number, design_options
+from camtol.cli_options import MAX_TOOL_RADIUS_MM, Number, design_options
 
 __all__ = ["cut", "derive", "precision"]
 
@@ -210,7 +210,8 @@ def _cut_json(res: Any) -> dict[str, Any]:
     help="Flat tool (half-planes) or cylindrical tool (disks).",
 )  # fmt: skip
 @click.option(
-    "--tool-radius", "tool_radius_mm", type=float, default=None, metavar="MM",
+    "--tool-radius", "tool_radius_mm", default=None, metavar="MM",
+    type=Number(low=0, low_open=True, high=MAX_TOOL_RADIUS_MM, unit="mm"),
     help="Cylinder radius [mm] (wire EDM: wire radius + spark gap).",
 )  # fmt: skip
 @click.option(
@@ -275,11 +276,6 @@ def cut(
             fail("--tool cylinder needs --tool-radius MM (wire EDM: wire radius + spark gap)")
         if tool == "flat" and tool_radius_mm is not None:
             fail("--tool-radius is only allowed with --tool cylinder")
-        if tool_radius_mm is not None and not (0 < tool_radius_mm < math.inf):
-            fail(
-                f"--tool-radius={tool_radius_mm:g} is not allowed; give a positive radius in mm"
-                " (wire EDM: wire radius + spark gap)"
-            )
         if read_step_deg is not None:
             check_step(read_step_deg, name="--read-step", min_points=3)
             if read_step_deg > min(steps) * (1 + 1e-9):

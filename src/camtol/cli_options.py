@@ -21,6 +21,7 @@ from typing import Any, TypeVar
 import click
 
 __all__ = [
+    "MAX_TOOL_RADIUS_MM",
     "Number",
     "design_options",
     "seed_option",
@@ -30,6 +31,10 @@ __all__ = [
 ]
 
 F = TypeVar("F", bound=Callable[..., Any])
+
+#: Largest tool radius a command accepts: :data:`camtol.profile.MAX_TOOL_RADIUS_MM`,
+#: written out so that ``--help`` imports no numpy (a test holds the two equal). [mm]
+MAX_TOOL_RADIUS_MM = 100_000.0
 
 
 def design_options(f: F) -> F:

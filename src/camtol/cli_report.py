@@ -28,7 +28,7 @@ from camtol.cli_inspection_options import (
     inspection_options,
     run_fixture,
 )
-from camtol.cli_options import Number, design_options, step_option
+from camtol.cli_options import MAX_TOOL_RADIUS_MM, Number, design_options, step_option
 
 __all__ = ["profile", "report"]
 
@@ -56,7 +56,7 @@ __all__ = ["profile", "report"]
 @click.option(
     "--cutter-radius",
     "cutter_radius_mm",
-    type=Number(low=0, unit="mm"),
+    type=Number(low=0, high=MAX_TOOL_RADIUS_MM, unit="mm"),
     default=None,
     metavar="MM",
     help="Also write the cutter-centre path for a cutter of this radius [mm].",
@@ -66,7 +66,8 @@ __all__ = ["profile", "report"]
     show_default=True, help="G-code output: G02/G03 biarcs or G01 chords.",
 )  # fmt: skip
 @click.option(
-    "--wire-radius", "wire_radius_mm", type=Number(low=0, unit="mm"), default=None,
+    "--wire-radius", "wire_radius_mm", default=None,
+    type=Number(low=0, high=MAX_TOOL_RADIUS_MM, unit="mm"),
     metavar="MM",
     help="G-code for wire EDM: wire radius [mm] (offset = wire radius + spark gap).",
 )  # fmt: skip
@@ -176,6 +177,11 @@ def _write_gcode(
         fail("G-code output needs exactly one of --cutter-radius MM or --wire-radius MM")
     if wire_radius_mm is None and spark_gap_mm != 0.0:
         fail("--spark-gap is the wire-EDM overcut: give --wire-radius MM as well")
+    if wire_radius_mm is not None and wire_radius_mm + spark_gap_mm > MAX_TOOL_RADIUS_MM:
+        fail(
+            f"--wire-radius + --spark-gap = {wire_radius_mm + spark_gap_mm:g} mm is not"
+            f" allowed; the offset may be at most {MAX_TOOL_RADIUS_MM:g} mm"
+        )
     from camtol.validity import check_design_geometry
 
     d = load(design, example)

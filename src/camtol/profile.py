@@ -35,6 +35,7 @@ from camtol.kinematics import analysis_grid, contact_jets
 
 __all__ = [
     "DEFAULT_TOLERANCE_MM",
+    "MAX_TOOL_RADIUS_MM",
     "CurveSpec",
     "ProfileCurve",
     "ProfilePoints",
@@ -45,6 +46,13 @@ __all__ = [
 
 #: Default chordal tolerance of exported polylines (0.1 µm). [mm]
 DEFAULT_TOLERANCE_MM = 1e-4
+
+#: Largest cutter, grinding-wheel or wire-EDM offset radius accepted for a tool path
+#: (100 m: far beyond any real tool, and room for limit studies such as a cylinder tending
+#: to a flat tool). The path's length, and the number of its vertices at a given chordal
+#: tolerance, grow with the radius: a mistyped 1e30 gave "the curve is undefined" for a
+#: CSV, a G-code run that exhausted the memory, and scallops of 1e18 µm. [mm]
+MAX_TOOL_RADIUS_MM = 100_000.0
 
 #: Step of the grid on which the curvature is sampled to plan the spacing. [deg]
 _PLAN_STEP_DEG = 0.05
@@ -374,11 +382,10 @@ def _check_tolerance(tolerance_mm: float) -> None:
 
 
 def _check_cutter(cutter_radius_mm: float | None) -> None:
-    if cutter_radius_mm is not None and not (
-        math.isfinite(cutter_radius_mm) and cutter_radius_mm > 0
-    ):
+    if cutter_radius_mm is not None and not (0 < cutter_radius_mm <= MAX_TOOL_RADIUS_MM):
         raise ExportError(
-            f"cutter_radius_mm={cutter_radius_mm:g} is not allowed; it must be a positive length"
+            f"cutter_radius_mm={cutter_radius_mm:g} is not allowed; it must be a positive"
+            f" length of at most {MAX_TOOL_RADIUS_MM:g} mm"
         )
 
 

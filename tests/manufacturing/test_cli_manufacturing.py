@@ -100,6 +100,13 @@ def test_derive(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert doc["selection"] == "noise" and doc["samples"] == 360
 
 
+def test_tool_radius_bound_of_the_command_line_is_the_librarys() -> None:
+    # The command line writes the bound out (its --help loads no numpy).
+    from camtol import cli_options, profile
+
+    assert cli_options.MAX_TOOL_RADIUS_MM == profile.MAX_TOOL_RADIUS_MM
+
+
 def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from camtol.config import load_example
 
@@ -122,6 +129,22 @@ def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
         (["precision", "-e", "popa-eccentric", "--table-step", "7"], "--table-step=7"),
         (["precision", "-e", "popa-eccentric", "--decimals", "3,x"], "--decimals"),
         (["profile", "-e", "popa-eccentric", "-o", "OUT.nc"], "--cutter-radius"),
+        # Tool radii beyond 100 m: a typo, whose path would be absurd or exhaust the memory
+        # (a 1e30 mm cutter's G-code was killed for lack of memory before the bound).
+        (["cut", "-e", "popa-eccentric", "--tool", "cylinder", "--tool-radius", "1e30"], "≤ 1000"),
+        (["profile", "-e", "popa-eccentric", "-o", "OUT.nc", "--cutter-radius", "1e30"], "100000"),
+        (["profile", "-e", "popa-eccentric", "-o", "OUT.csv", "--cutter-radius", "2e5"], "to 1000"),
+        (["profile", "-e", "popa-eccentric", "-o", "OUT.nc", "--wire-radius", "1e6"], "100000"),
+        (
+            ["profile", "-e", "popa-eccentric", "-o", "OUT.nc", "--wire-radius", "0.1"]
+            + ["--spark-gap", "1e30"],
+            "the offset may be at most 100000 mm",
+        ),
+        (
+            ["profile", "-e", "popa-eccentric", "-o", "OUT.nc", "--wire-radius", "99999"]
+            + ["--spark-gap", "2"],
+            "--wire-radius + --spark-gap = 100001 mm",
+        ),
     ],
 )
 def test_bad_input_one_line_exit_2(

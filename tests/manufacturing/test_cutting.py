@@ -124,6 +124,9 @@ def test_bad_steps_and_tools() -> None:
         simulate_cut(d, 1.0, read_step_deg=2.0)
     with pytest.raises(DesignError, match="tool='drill'"):
         cut_cam(d, 1.0, tool="drill")  # type: ignore[arg-type]
+    for radius in (0.0, math.nan, 100_000.5, 1e30):  # 1e30 gave scallops of 1e18 µm
+        with pytest.raises(DesignError, match="at most 100000 mm"):
+            cut_cam(d, 1.0, tool="cylinder", tool_radius_mm=radius)
     with pytest.raises(GeometryError, match="material is left"):
         cut_cam(d, 10.0, tool="cylinder", tool_radius_mm=0.5)
 

@@ -106,6 +106,9 @@ def test_gouging_tool_and_bad_options_are_refused() -> None:
         write_gcode(d)
     with pytest.raises(DesignError, match="tolerance_mm"):
         write_gcode(d, tool_radius_mm=1.0, tolerance_mm=0.0)
+    for kw in ({"tool_radius_mm": 1e30}, {"wire_radius_mm": 99_999.0, "spark_gap_mm": 2.0}):
+        with pytest.raises(DesignError, match="tool offset .* at most 100000 mm"):
+            write_gcode(d, **kw)  # type: ignore[arg-type]
 
 
 @settings(max_examples=12)

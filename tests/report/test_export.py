@@ -279,6 +279,13 @@ def test_cutter_larger_than_concave_radius_is_refused() -> None:
         profile_points(design, cutter_radius_mm=1.1 * smallest)
 
 
+@pytest.mark.parametrize("radius", [0.0, -1.0, math.inf, 100_000.5, 1e30])
+def test_cutter_radius_outside_its_range_is_refused(radius: float) -> None:
+    # 1e30 mm overflowed the offset's sampling ("the curve is undefined at 0°").
+    with pytest.raises(ExportError, match="cutter_radius_mm=.* at most 100000 mm"):
+        profile_points(load_example("cw06-translating"), cutter_radius_mm=radius)
+
+
 # ---------------------------------------------------------------------------------------
 # CLI
 # ---------------------------------------------------------------------------------------

@@ -51,6 +51,7 @@ from camtol.exceptions import DesignError, GeometryError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.manufacturing.toolpath import check_gouge, profile_path
+from camtol.profile import MAX_TOOL_RADIUS_MM
 
 __all__ = [
     "CANDIDATE_STEPS_DEG",
@@ -173,10 +174,11 @@ def default_read_step_deg(cut_step_deg: float) -> float:
 def _check_tool(tool: str, tool_radius_mm: float) -> None:
     if tool not in TOOLS:
         raise DesignError(f"tool={tool!r} is unknown; allowed: {', '.join(TOOLS)}")
-    if tool == "cylinder" and not (math.isfinite(tool_radius_mm) and tool_radius_mm > 0):
+    if tool == "cylinder" and not (0 < tool_radius_mm <= MAX_TOOL_RADIUS_MM):
         raise DesignError(
             f"tool_radius_mm={tool_radius_mm:g} is not allowed; a cylindrical tool needs a"
-            " positive radius in mm (wire EDM: wire radius + spark gap)"
+            f" positive radius of at most {MAX_TOOL_RADIUS_MM:g} mm (wire EDM: wire radius +"
+            " spark gap)"
         )
 
 

@@ -33,6 +33,7 @@ from camtol.design import CamDesign
 from camtol.exceptions import DesignError, GeometryError, InputFileError
 from camtol.jet import FloatArray
 from camtol.manufacturing.toolpath import PathSample, check_gouge, profile_path, single_cams
+from camtol.profile import MAX_TOOL_RADIUS_MM
 
 __all__ = [
     "GCODE_MODES",
@@ -319,6 +320,12 @@ def write_gcode(
     ):
         if val is not None and not (math.isfinite(val) and val >= 0):
             raise DesignError(f"{name}={val:g} is not allowed; give a length ≥ 0")
+    offset = (tool_radius_mm or 0.0) + (wire_radius_mm or 0.0) + spark_gap_mm
+    if offset > MAX_TOOL_RADIUS_MM:
+        raise DesignError(
+            f"tool offset {offset:g} mm is not allowed (tool_radius_mm, or wire_radius_mm +"
+            f" spark_gap_mm); give at most {MAX_TOOL_RADIUS_MM:g} mm"
+        )
     if wire_radius_mm is not None:
         r = wire_radius_mm + spark_gap_mm
         tool = (
