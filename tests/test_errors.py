@@ -128,3 +128,19 @@ def test_extremes_of_a_broadcast_constant_are_those_of_the_full_array() -> None:
     ref = find_extremes(theta, {"c": np.full(theta.shape, 0.25)}, never, step_deg=0.5)
     assert got == ref
     assert got["c"][0].ranges_deg == ((0.0, 360.0),) and got["c"][1].value == 0.25
+
+
+@pytest.mark.parametrize("shape", [(), (3, 4)])
+def test_worst_case_and_rms_of_other_shapes(shape: tuple[int, ...]) -> None:
+    # A grid that is a scalar or a table is summed in one block, as a line is.
+    from camtol.errors import ErrorAnalysis, SourceError
+
+    s1 = np.random.default_rng(5).normal(size=shape)
+    s2 = 2.0 * s1
+    err = ErrorAnalysis(
+        np.zeros(shape),
+        np.zeros(shape, bool),
+        {"a": SourceError("a", 0.1, s1, s1, s1), "b": SourceError("b", -0.2, s2, s2, s2)},
+    )
+    np.testing.assert_array_equal(err.worst(0), np.abs(s1) * 0.1 + np.abs(s2) * 0.2)
+    np.testing.assert_array_equal(err.rms(1), np.sqrt((s1 * 0.1) ** 2 + (s2 * -0.2) ** 2))

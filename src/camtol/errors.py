@@ -184,7 +184,7 @@ class ErrorAnalysis:
         part = np.empty(result[blocks[0]].shape)
         for rows in blocks:
             acc = result[rows]
-            tmp = part[: acc.shape[0]]
+            tmp = part if rows is Ellipsis else part[: acc.shape[0]]
             first = True
             for step in steps:
                 if isinstance(step, float):
