@@ -420,3 +420,41 @@ def test_harmonic_table_recurrence_matches_the_trigonometric_functions() -> None
     bound = 2 * math.pi * 400 * np.finfo(float).eps
     assert np.max(np.abs(c - np.cos(np.outer(t, k)))) < bound
     assert np.max(np.abs(s - np.sin(np.outer(t, k)))) < bound
+
+
+def test_a_stylus_ball_larger_than_a_concave_radius_is_refused(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    # A small translating-roller cam with a concave flank: a probe ball larger than its
+    # concave radius bridges the hollow, so neither a simulated scan nor the compensation
+    # of a measured one can hold; a ball that fits is accepted by both.
+    from camtol.design import CamDesign
+    from camtol.exceptions import GeometryError
+    from camtol.inspection.cmm import read_scan
+    from camtol.inspection.deviations import check_stylus
+    from camtol.inspection.twin import scan_csv_text
+    from camtol.manufacturing.toolpath import smallest_concave_radius
+    from camtol.mechanisms import RollerTranslating
+    from camtol.motion import Segment, SegmentProgram
+
+    r = math.radians
+    program = SegmentProgram(
+        (
+            Segment("rise", 0.0, r(120), "cycloidal", 22.0),
+            Segment("dwell", r(120), r(190)),
+            Segment("return", r(190), r(290), "cycloidal", 22.0),
+            Segment("dwell", r(290), r(360)),
+        )
+    )
+    design = CamDesign("concave", RollerTranslating(20.0, 8.0, 0.0), program)
+    tight = smallest_concave_radius(design)
+    assert tight is not None
+    rho, at = tight
+    assert smallest_concave_radius(cam_profile(load_example("cw11-experiment")).design) is None
+    with pytest.raises(GeometryError, match=rf"radius {1.5 * rho:g} mm cannot touch cam A"):
+        simulate_scan(design, points=720, stylus_radius_mm=1.5 * rho)
+    fits = simulate_scan(design, points=720, stylus_radius_mm=0.5 * rho)
+    path = tmp_path / "scan.csv"
+    path.write_text(scan_csv_text(fits))
+    assert inspect_scan(design, read_scan(path, stylus_radius_mm=0.5 * rho), tolerance_um=(-50, 50))
+    with pytest.raises(GeometryError, match=rf"θ={at:.2f}°.* at most {rho:.4g} mm"):
+        inspect_scan(design, read_scan(path, stylus_radius_mm=1.5 * rho), tolerance_um=(-50, 50))
+    check_stylus(cam_profile(design), 0.0)  # surface points: nothing to check

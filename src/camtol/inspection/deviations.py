@@ -40,6 +40,7 @@ __all__ = [
     "CamProfile",
     "CmmInspection",
     "cam_profile",
+    "check_stylus",
     "inspect_scan",
     "minimum_zone",
     "ToleranceKind",
@@ -103,6 +104,40 @@ def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
         )
     single = cams[0 if cam == "A" else 1].design
     return CamProfile(cam, single, profile_table(single.mechanism, single.program))
+
+
+def check_stylus(profile: CamProfile, stylus_radius_mm: float) -> None:
+    """Raise if a probe ball of this radius cannot touch the cam's profile everywhere.
+
+    On a concave stretch whose radius of curvature is smaller than the ball's, the ball
+    bridges the hollow: its centres there are not the profile offset by the radius, so a
+    simulated scan would be impossible and a measured one wrongly compensated.
+
+    Parameters
+    ----------
+    profile : CamProfile
+        The cam.
+    stylus_radius_mm : float
+        Probe-ball radius (0: surface points, nothing to check). [mm]
+
+    Raises
+    ------
+    GeometryError
+        Naming the cam, the angle, the concave radius there and the largest ball that fits.
+    """
+    if not stylus_radius_mm > 0:
+        return
+    from camtol.manufacturing.toolpath import smallest_concave_radius
+
+    tight = smallest_concave_radius(profile.design)
+    if tight is not None and tight[0] < stylus_radius_mm:
+        rho, at = tight
+        raise GeometryError(
+            f"a stylus ball of radius {stylus_radius_mm:g} mm cannot touch cam"
+            f" {profile.label}'s profile at θ={at:.2f}°, where it is concave with a radius of"
+            f" curvature of {rho:.4g} mm (the ball bridges the hollow); use a ball of"
+            f" radius at most {rho:.4g} mm"
+        )
 
 
 def profile_tolerance(
@@ -321,9 +356,13 @@ def inspect_scan(
         nominal after registration (a scan of another cam).
     DesignError
         No profile tolerance in the design and none given.
+    GeometryError
+        The scan's stylus ball is larger than a concave radius of the cam
+        (:func:`check_stylus`).
     """
     datum = Datum() if datum is None else datum
     prof = cam_profile(design, cam) if profile is None else profile
+    check_stylus(prof, scan.stylus_radius_mm)  # compensated points assume the ball fits
     design_tol = profile_tolerance(design, cam) if tolerance_um is None else None
     tol = (design_tol[0], design_tol[1]) if design_tol is not None else tolerance_um
     kind: str = tolerance_kind or (design_tol[2] if design_tol is not None else "normal")

@@ -30,7 +30,7 @@ from camtol.design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.inspection.cmm import MIN_POINTS, CamLabel
 from camtol.inspection.conjugate import FixtureErrors
-from camtol.inspection.deviations import cam_profile
+from camtol.inspection.deviations import cam_profile, check_stylus
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
@@ -238,6 +238,7 @@ def simulate_scan(
     if error_kind not in ("radial", "normal"):
         raise DesignError(f"error kind {error_kind!r} is not allowed; use radial or normal")
     prof = cam_profile(design, cam)
+    check_stylus(prof, stylus_radius_mm)  # a ball that bridges a hollow has no such scan
     shape = AnalyticShape(
         prof.mechanism,
         prof.design.program,

@@ -21,7 +21,13 @@ from camtol.exceptions import UndercutError
 from camtol.jet import FloatArray, Jet
 from camtol.kinematics import contact_jets
 
-__all__ = ["PathSample", "check_gouge", "profile_path", "single_cams"]
+__all__ = [
+    "PathSample",
+    "check_gouge",
+    "profile_path",
+    "single_cams",
+    "smallest_concave_radius",
+]
 
 
 @dataclass(frozen=True)
@@ -122,6 +128,37 @@ def profile_path(
     return PathSample(theta, x.v + d * ty, y.v - d * tx, tx, ty, speed * ratio, rho + d)
 
 
+def smallest_concave_radius(
+    design: CamDesign, *, step_deg: float = 0.05
+) -> tuple[float, float] | None:
+    """Return the smallest concave radius of curvature of a cam's profile and where, or None.
+
+    What a round tool, a grinding wheel or a probe ball must not exceed to touch the
+    profile everywhere.
+
+    Parameters
+    ----------
+    design : CamDesign
+        A single-cam design.
+    step_deg : float
+        Angular step of the search. [deg]
+
+    Returns
+    -------
+    (float, float) or None
+        |ρ| [mm] and the cam angle θ [deg] of the tightest concave stretch; None for a
+        profile with no concave stretch.
+    """
+    n = int(round(360.0 / step_deg))
+    theta = np.arange(n) * (2.0 * math.pi / n)
+    rho = profile_path(design, theta).rho_mm
+    concave = rho < 0
+    if not np.any(concave):
+        return None
+    i = int(np.argmax(np.where(concave, rho, -np.inf)))
+    return float(-rho[i]), math.degrees(theta[i])
+
+
 def check_gouge(design: CamDesign, tool_radius_mm: float, *, step_deg: float = 0.05) -> None:
     """Raise if a tool of this radius cannot follow the profile (concave ρ smaller than R).
 
@@ -140,20 +177,17 @@ def check_gouge(design: CamDesign, tool_radius_mm: float, *, step_deg: float = 0
         Naming the smallest concave radius of curvature, the cam angle where it occurs,
         and the largest tool radius that cuts the profile without gouging.
     """
-    n = int(round(360.0 / step_deg))
-    theta = np.arange(n) * (2.0 * math.pi / n)
-    rho = profile_path(design, theta).rho_mm
-    concave = rho < 0
-    if tool_radius_mm > 0 and np.any(concave & (-rho < tool_radius_mm)):
-        i = int(np.argmax(np.where(concave, rho, -np.inf)))
+    tight = smallest_concave_radius(design, step_deg=step_deg) if tool_radius_mm > 0 else None
+    if tight is not None and tight[0] < tool_radius_mm:
+        rho, at = tight
         if math.isinf(tool_radius_mm):
             raise UndercutError(
                 f"a flat tool cannot cut this profile: it is concave (radius of curvature"
-                f" {-rho[i]:.4g} mm) at θ={math.degrees(theta[i]):.2f}° and the tool would"
-                f" gouge there; use a cylindrical tool of radius at most {-rho[i]:.4g} mm"
+                f" {rho:.4g} mm) at θ={at:.2f}° and the tool would gouge there; use a"
+                f" cylindrical tool of radius at most {rho:.4g} mm"
             )
         raise UndercutError(
             f"tool radius {tool_radius_mm:g} mm is larger than the concave radius of curvature"
-            f" {-rho[i]:.4g} mm of the profile at θ={math.degrees(theta[i]):.2f}°: the tool"
-            f" would gouge there; use a tool radius of at most {-rho[i]:.4g} mm"
+            f" {rho:.4g} mm of the profile at θ={at:.2f}°: the tool would gouge there; use a"
+            f" tool radius of at most {rho:.4g} mm"
         )
