@@ -327,6 +327,14 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
             ["simulate", "cmm", "-o", "s.csv", "--points", "1.5"],
             "--points='1.5' is not a whole number",
         ),
+        (  # cos(1e30°) is no direction: ran, with an arbitrary one
+            ["simulate", "cmm", "-o", "s.csv", "--rotation-deg", "1e30"],
+            "--rotation-deg=1e+30 is not allowed; give a number from -360 to 360 in deg",
+        ),
+        (
+            ["simulate", "cmm", "-o", "s.csv", "--eccentricity-deg", "-400"],
+            "--eccentricity-deg=-400 is not allowed; give a number from -360 to 360 in deg",
+        ),
         (
             ["cut", "--lift-tolerance-um", "-1"],
             "--lift-tolerance-um=-1 is not allowed; give a number > 0",

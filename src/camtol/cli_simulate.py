@@ -72,14 +72,14 @@ def simulate() -> None:
 )
 @click.option(
     "--eccentricity-deg",
-    type=Number(unit="deg"),
+    type=Number(low=-360, high=360, unit="deg"),
     default=0.0,
     show_default=True,
     help="Direction of the offset [deg].",
 )
 @click.option(
     "--rotation-deg",
-    type=Number(unit="deg"),
+    type=Number(low=-360, high=360, unit="deg"),
     default=0.0,
     show_default=True,
     help="Placement rotation of the cam on the machine [deg].",

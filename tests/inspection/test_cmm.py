@@ -458,3 +458,11 @@ def test_a_stylus_ball_larger_than_a_concave_radius_is_refused(tmp_path) -> None
     with pytest.raises(GeometryError, match=rf"θ={at:.2f}°.* at most {rho:.4g} mm"):
         inspect_scan(design, read_scan(path, stylus_radius_mm=1.5 * rho), tolerance_um=(-50, 50))
     check_stylus(cam_profile(design), 0.0)  # surface points: nothing to check
+
+
+def test_twin_placement_angles_are_bounded(cw11) -> None:  # type: ignore[no-untyped-def]
+    # cos(1e30°) has no direction left in double precision; ±360° itself is allowed.
+    simulate_scan(cw11, points=360, rotation_deg=-360.0, eccentricity_deg=360.0)
+    for kw in ({"rotation_deg": 1e30}, {"eccentricity_deg": -361.0}, {"rotation_deg": math.nan}):
+        with pytest.raises(DesignError, match="from -360 to 360"):
+            simulate_scan(cw11, points=360, **kw)

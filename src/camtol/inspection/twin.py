@@ -209,10 +209,10 @@ def simulate_scan(
     stylus_radius_mm : float
         Ball radius; > 0 writes ball centres, r outside the surface. [mm]
     eccentricity_um, eccentricity_deg : float
-        Placement offset of the cam centre in the CMM frame: magnitude and direction.
-        [µm, deg]
+        Placement offset of the cam centre in the CMM frame: magnitude and direction
+        (within ±360°). [µm, deg]
     rotation_deg : float
-        Placement rotation of the cam frame in the CMM frame. [deg]
+        Placement rotation of the cam frame in the CMM frame (within ±360°). [deg]
     outliers : int
         Points moved off the surface by ±(0.5..1) × ``outlier_um`` along the normal.
     outlier_um : float
@@ -229,6 +229,10 @@ def simulate_scan(
     for name, value in (("noise_um", noise_um), ("stylus_radius_mm", stylus_radius_mm)):
         if not (math.isfinite(value) and value >= 0):
             raise DesignError(f"{name}={value!r} is not allowed; give a number ≥ 0")
+    # An angle of 1e30° has no direction left in double precision: refuse, not guess.
+    for name, value in (("eccentricity_deg", eccentricity_deg), ("rotation_deg", rotation_deg)):
+        if not abs(value) <= 360.0:
+            raise DesignError(f"{name}={value!r} is not allowed; give an angle from -360 to 360")
     if not isinstance(points, int) or points < MIN_POINTS:
         raise DesignError(f"points={points!r} is not allowed; give an integer ≥ {MIN_POINTS}")
     if not isinstance(outliers, int) or not 0 <= outliers <= points // 10:
