@@ -328,6 +328,31 @@ def test_scan_of_the_other_cam_of_a_pair_is_named(capsys, scan_b: Path) -> None:
     assert "it matches cam B: use --cam B" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize("stylus", ["0", "1e9"])
+def test_scan_of_neither_cam_of_a_pair_is_refused_once(  # type: ignore[no-untyped-def]
+    capsys, tmp_path: Path, stylus: str
+) -> None:
+    # The hint tries the other cam; that try must not try back: a scan of neither cam
+    # (another part, or centres compensated by an absurd ball) recursed between A and B
+    # until Python's limit ("numerical failure ... nested too deeply").
+    scan = tmp_path / "other.csv"
+    code, _, _ = _run(capsys, "simulate", "cmm", "-e", "cw06-translating", "-o", str(scan))
+    assert code == 0
+    code, _, err = _run(
+        capsys,
+        "inspect",
+        "-e",
+        "cw11-experiment",
+        "--points",
+        str(scan),
+        "--stylus-radius-mm",
+        stylus,
+    )
+    assert code == 2
+    assert "do not match the nominal profile of cam A" in err and "it matches" not in err
+    assert "nested too deeply" not in err and len(err.strip().splitlines()) == 1
+
+
 def test_cmm_options_bad_input(capsys, scan_b: Path, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     code, _, err = _run(capsys, "conjugate", "-e", "cw11-experiment", "--cmm-a", str(scan_b))
     assert code == 2 and "--cmm-a and --cmm-b go together" in err

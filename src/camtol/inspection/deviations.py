@@ -360,6 +360,24 @@ def inspect_scan(
         The scan's stylus ball is larger than a concave radius of the cam
         (:func:`check_stylus`).
     """
+    return _inspect_scan(design, scan, cam, datum, tolerance_um, tolerance_kind, profile, True)
+
+
+def _inspect_scan(
+    design: CamDesign,
+    scan: Scan,
+    cam: CamLabel,
+    datum: Datum | None,
+    tolerance_um: tuple[float, float] | None,
+    tolerance_kind: ToleranceKind | None,
+    profile: CamProfile | None,
+    hint_other_cam: bool,
+) -> CmmInspection:
+    """Do :func:`inspect_scan`, trying the other cam of a pair only with ``hint_other_cam``.
+
+    A refused scan of a pair's cam is tried on the other cam for the hint; that try must
+    not try back, or a scan of neither cam recurses between the two without end.
+    """
     datum = Datum() if datum is None else datum
     prof = cam_profile(design, cam) if profile is None else profile
     check_stylus(prof, scan.stylus_radius_mm)  # compensated points assume the ball fits
@@ -392,9 +410,10 @@ def inspect_scan(
     check_coverage(scan.source, px - centre[0], py - centre[1])
 
     def wrong() -> str:
+        hint = _other_cam_hint(design, scan, prof.label, datum, tol) if hint_other_cam else ""
         return (
             f"{scan.source}: the points do not match the nominal profile of cam {prof.label}"
-            f" of {design.name!r}{_other_cam_hint(design, scan, prof.label, datum, tol)}"
+            f" of {design.name!r}{hint}"
         )
 
     try:
@@ -453,7 +472,7 @@ def _other_cam_hint(
         return ""
     other = "B" if label == "A" else "A"
     try:
-        inspect_scan(design, scan, cam=other, datum=datum, tolerance_um=tol)  # type: ignore[arg-type]
+        _inspect_scan(design, scan, other, datum, tol, None, None, False)  # type: ignore[arg-type]
     except (InputFileError, GeometryError):
         return ""
     return f" (it matches cam {other}: use --cam {other})"
