@@ -327,6 +327,10 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
             ["simulate", "cmm", "-o", "s.csv", "--points", "1.5"],
             "--points='1.5' is not a whole number",
         ),
+        (  # named the library parameter
+            ["inspect", "--points", "p.csv", "--harmonics", "0"],
+            "--harmonics=0 is not allowed; give a whole number ≥ 1",
+        ),
         (  # cos(1e30°) is no direction: ran, with an arbitrary one
             ["simulate", "cmm", "-o", "s.csv", "--rotation-deg", "1e30"],
             "--rotation-deg=1e+30 is not allowed; give a number from -360 to 360 in deg",
@@ -386,6 +390,24 @@ def test_number_options_name_the_flag(
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
     assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [  # said noise=-0.001 (converted to mm) and smoothing=0, the library's names
+        (["--noise-um", "-1"], "--noise-um=-1 is not allowed; give a number > 0 in µm"),
+        (["--noise-deg", "nan"], "--noise-deg=nan is not allowed; give a number > 0 in deg"),
+        (["--smoothing", "0"], "--smoothing=0 is not allowed; give a number > 0"),
+    ],
+)
+def test_derive_number_options_name_the_flag(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, args: list[str], message: str
+) -> None:
+    lift = tmp_path / "lift.csv"
+    lift.write_text("theta_deg,lift_mm\n" + "".join(f"{t},{t / 100}\n" for t in range(360)))
+    assert main(["derive", str(lift), *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
 
 
 def test_number_type_bounds_and_text() -> None:

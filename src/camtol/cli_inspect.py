@@ -195,7 +195,7 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 )
 @click.option(
     "--harmonics",
-    type=int,
+    type=Number(low=1, integer=True),
     default=100,
     show_default=True,
     help="Fourier cut-off smoothing Δn for the follower error.",

@@ -369,19 +369,19 @@ def cut(
     help="Periodic smoothing spline or Savitzky-Golay (cubic) filter.",
 )  # fmt: skip
 @click.option(
-    "--smoothing", type=float, default=None, metavar="X",
+    "--smoothing", type=Number(low=0, low_open=True), default=None, metavar="X",
     help="Spline λ [rad³] or Savitzky-Golay window [samples]; default: by GCV or noise.",
 )  # fmt: skip
 @click.option(
     "--noise-um",
-    type=float,
+    type=Number(low=0, low_open=True, unit="µm"),
     default=None,
     metavar="UM",
     help="Known rms lift noise [µm] (lift_mm files).",
 )
 @click.option(
     "--noise-deg",
-    type=float,
+    type=Number(low=0, low_open=True, unit="deg"),
     default=None,
     metavar="DEG",
     help="Known rms lift noise [deg] (lift_deg files).",

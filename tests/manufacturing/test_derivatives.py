@@ -70,5 +70,8 @@ def test_gaps_and_unequal_steps_are_refused() -> None:
         derive_lift(uneven, LIFT)
     with pytest.raises(DesignError, match="not a finite number"):
         derive_lift(THETA_DEG, np.where(THETA_DEG == 7, np.nan, LIFT))
-    with pytest.raises(DesignError, match="window=4"):
+    with pytest.raises(DesignError, match="smoothing=4 is not allowed for the Savitzky-Golay"):
         derive_lift(THETA_DEG, LIFT, method="savgol", smoothing=4)
+    # A fractional window was rounded in silence (4.5 became 4, and said so as window=4).
+    with pytest.raises(DesignError, match="smoothing=4.5 .* odd whole number"):
+        derive_lift(THETA_DEG, LIFT, method="savgol", smoothing=4.5)

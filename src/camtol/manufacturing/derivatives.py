@@ -168,8 +168,8 @@ def _savgol(
         selection = "given"
         if not (SAVGOL_ORDER + 2 <= window <= largest and window % 2 == 1):
             raise DesignError(
-                f"window={window} is not allowed; give an odd number of samples between"
-                f" {SAVGOL_ORDER + 2} and {largest}"
+                f"smoothing={window:g} is not allowed for the Savitzky-Golay filter; give an"
+                f" odd number of samples between {SAVGOL_ORDER + 2} and {largest}"
             )
     outs = [savgol_filter(y, window, SAVGOL_ORDER, deriv=d, delta=h, mode="wrap") for d in range(4)]
     gains = tuple(
@@ -247,7 +247,12 @@ def derive_lift(
     if method == "spline":
         g, (v, a, j), par, sel, dof, gains = _spline(y, h, smoothing, noise)
     else:
-        window = None if smoothing is None else int(round(smoothing))
+        if smoothing is not None and smoothing != round(smoothing):
+            raise DesignError(
+                f"smoothing={smoothing:g} is not allowed for the Savitzky-Golay filter; give"
+                " an odd whole number of samples (its window)"
+            )
+        window = None if smoothing is None else int(smoothing)
         g, (v, a, j), par, sel, dof, gains = _savgol(y, h, window, noise)
     rss = float(np.sum((y - g) ** 2))
     sigma = noise if noise is not None else math.sqrt(rss / max(n - dof, 1.0))
