@@ -45,9 +45,8 @@ def _open_existing(location: str) -> InspectionStore:
 
     path = location.removeprefix("sqlite:///") if location.startswith("sqlite:///") else location
     if "://" not in path and path != ":memory:" and not Path(path).is_file():
-        fail(
-            f"--store={location!r}: no such file (records are created by --store on an inspection)"
-        )
+        what = "a directory, not a store file" if Path(path).is_dir() else "no such file"
+        fail(f"--store={location!r}: {what} (records are created by --store on an inspection)")
     return open_store(location, create=False)
 
 

@@ -146,6 +146,8 @@ def test_store_errors_exit_2_before_any_work(
     assert main(["records", "list", "--store", f"sqlite:///{missing}"]) == 2
     assert "no such file" in capsys.readouterr().err
     assert not Path(missing).exists()  # not created by a read
+    assert main(["records", "list", "--store", str(tmp_path)]) == 2  # said "no such file"
+    assert "a directory, not a store file" in capsys.readouterr().err
     assert main(["records", "list", "--store", "postgresql+psycopg://u:pw@127.0.0.1:1/x"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "cannot open the store" in err and "pw" not in err
