@@ -211,7 +211,7 @@ def test_random_program_is_continuous_in_lift_and_velocity(
 
 
 def test_table_resolution_detects_the_rounding_quantum() -> None:
-    from camtol.motion import table_resolution
+    from camtol.table_noise import table_resolution
 
     x = np.linspace(0, 22, 360)
     assert table_resolution(np.round(x, 3)) == pytest.approx(1e-3)
@@ -246,3 +246,27 @@ def test_polynomial_laws_equal_numpy_polyval_bit_for_bit(coefficients: tuple[flo
     for got, want in zip(_polynomial(coefficients)(x), expected, strict=True):
         np.testing.assert_array_equal(got, want)
         np.testing.assert_array_equal(np.signbit(got), np.signbit(want))
+
+
+def test_evaluate_into_a_block_gives_the_same_numbers() -> None:
+    # The engine has the program write S, V, A, J straight into its result block.
+    p = _cw06()
+    table = LiftTable(np.radians(np.arange(360.0)), p.evaluate(np.radians(np.arange(360.0))).lift)
+    theta = np.radians(np.linspace(-30, 400, 1001))
+    left = np.zeros(theta.shape, bool)
+    left[::7] = True
+    for program in (p, table):
+        ref = program.evaluate(theta, left_limit=left)
+        block = np.full((6, theta.size), np.nan)
+        got = program.evaluate(theta, left_limit=left, out=block[1:5])
+        for a, b, row in zip(
+            (got.lift, got.velocity, got.acceleration, got.jerk),
+            (ref.lift, ref.velocity, ref.acceleration, ref.jerk),
+            block[1:5],
+            strict=True,
+        ):
+            np.testing.assert_array_equal(a, b)
+            np.testing.assert_array_equal(row, b)  # written in place
+        assert np.all(np.isnan(block[[0, 5]]))  # and nowhere else
+        with pytest.raises(ValueError, match=r"out has shape \(3, 1001\)"):
+            program.evaluate(theta, out=block[:3])

@@ -71,9 +71,9 @@ from camtol.motion import (
     MotionProgram,
     Segment,
     SegmentProgram,
-    table_resolution,
 )
 from camtol.sources import DESIGN_SOURCES
+from camtol.table_noise import table_resolution
 from camtol.tables import read_table
 
 if TYPE_CHECKING:

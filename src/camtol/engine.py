@@ -168,9 +168,7 @@ def _motion(
     out = np.empty((4, n))  # one block: huge pages, fewer page faults
     for a in range(0, n, chunk):
         at = slice(a, min(n, a + chunk))
-        m = design.program.evaluate(theta[at], left_limit=left[at])
-        for full, part in zip(out, (m.lift, m.velocity, m.acceleration, m.jerk), strict=True):
-            full[at] = part
+        design.program.evaluate(theta[at], left_limit=left[at], out=out[:, at])  # in place
     return MotionState(*out)
 
 

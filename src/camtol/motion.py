@@ -51,7 +51,6 @@ __all__ = [
     "Segment",
     "SegmentProgram",
     "normalized_law",
-    "table_resolution",
 ]
 
 
@@ -117,7 +116,13 @@ class Segment:
 class MotionProgram:
     """Interface of a motion program: S, V, A, J over the θ grid."""
 
-    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+    def evaluate(
+        self,
+        theta_rad: ArrayLike,
+        *,
+        left_limit: ArrayLike | None = None,
+        out: FloatArray | None = None,
+    ) -> MotionState:
         """Return S, V, A, J at the cam angles (left limits where ``left_limit``).
 
         Parameters
@@ -128,12 +133,15 @@ class MotionProgram:
             Where True, an angle lying on a boundary of :attr:`boundaries_rad` takes the
             limit from below (the segment or interval that ends there) instead of from
             above. Broadcast against ``theta_rad``; None means right limits everywhere.
+        out : ndarray, optional
+            A (4, N) array for S, V, A, J of a one-dimensional grid of N angles, written
+            in place (the engine's result block: no copy); a new one by default.
 
         Returns
         -------
         MotionState
-            S, V, A, J as arrays of the shape of ``theta_rad``. [mm, or rad for an
-            oscillating follower, per rad^k]
+            S, V, A, J as arrays of the shape of ``theta_rad`` (views of ``out`` when
+            given). [mm, or rad for an oscillating follower, per rad^k]
         """
         raise NotImplementedError
 
@@ -357,7 +365,13 @@ class SegmentProgram(MotionProgram):
         t = np.mod(theta - start, TWO_PI) + start
         return np.asarray(t, dtype=float)
 
-    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+    def evaluate(
+        self,
+        theta_rad: ArrayLike,
+        *,
+        left_limit: ArrayLike | None = None,
+        out: FloatArray | None = None,
+    ) -> MotionState:
         """Return S, V, A, J at ``theta_rad``.
 
         Parameters
@@ -367,6 +381,9 @@ class SegmentProgram(MotionProgram):
         left_limit : array_like of bool, optional
             Where True, an angle lying on a segment boundary takes the limit from the
             segment that ends there instead of the one that starts there.
+        out : ndarray, optional
+            (4, N) array written in place, for a grid of N angles
+            (:meth:`MotionProgram.evaluate`).
 
         Returns
         -------
@@ -378,7 +395,7 @@ class SegmentProgram(MotionProgram):
         idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
         # One block for S, V, A, J: a large allocation gets huge pages (fewer page faults).
         # Every row belongs to a segment, and every segment writes all four of its rows.
-        out = np.empty((4, *t.shape))
+        out = _motion_block(out, t.shape)
         for i, m in self._segment_rows(idx):
             seg = self.segments[i]
             if seg.kind == "dwell":
@@ -426,7 +443,7 @@ class LiftTable(MotionProgram):
         Lifts at those angles. [mm, or rad for an oscillating follower]
     resolution : float, optional
         Rounding quantum Q of the tabulated values, in the program's unit; ``None`` when
-        the values carry full precision. See :func:`table_resolution`.
+        the values carry full precision. See :func:`camtol.table_noise.table_resolution`.
 
     Raises
     ------
@@ -517,11 +534,18 @@ class LiftTable(MotionProgram):
         gain = spline_acceleration_gain(self.theta_rad.size)
         return gain * 0.5 * self.resolution / self.step_rad**2
 
-    def evaluate(self, theta_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> MotionState:
+    def evaluate(
+        self,
+        theta_rad: ArrayLike,
+        *,
+        left_limit: ArrayLike | None = None,
+        out: FloatArray | None = None,
+    ) -> MotionState:
         """Return S, V, A, J from the periodic spline.
 
         S, V and A are continuous; J is constant between tabulated angles, and a
         ``left_limit`` row at a tabulated angle takes J of the interval that ends there.
+        ``out`` as for :meth:`MotionProgram.evaluate`.
         """
         theta = np.asarray(theta_rad, dtype=float)
         t = np.mod(theta, TWO_PI)
@@ -532,34 +556,21 @@ class LiftTable(MotionProgram):
             # J is piecewise constant: its left limit is its value just before the knot.
             before = np.mod(t - 1e-6 * self.step_rad, TWO_PI)
             jerk = np.where(left, sp(before, 3), jerk)
-        return MotionState(sp(t), sp(t, 1), sp(t, 2), jerk)
+        if out is None:
+            return MotionState(sp(t), sp(t, 1), sp(t, 2), jerk)
+        block = _motion_block(out, np.shape(t))
+        for row, values in zip(block, (sp(t), sp(t, 1), sp(t, 2), jerk), strict=True):
+            row[...] = values
+        return MotionState(*block)
 
 
-def table_resolution(values: ArrayLike, *, max_decimals: int = 12) -> float | None:
-    """Return the rounding quantum of tabulated values: the largest 10^-k dividing all.
-
-    Parameters
-    ----------
-    values : array_like
-        Tabulated lifts as written in the file. [mm or deg]
-    max_decimals : int
-        Beyond this many decimals the values count as carrying full precision.
-
-    Returns
-    -------
-    float or None
-        Q = 10^-k, or None for full precision.
-    """
-    v = np.asarray(values, dtype=float)
-    scale = max(float(np.max(np.abs(v))), 1.0)
-    eps = np.finfo(float).eps
-    for k in range(max_decimals + 1):
-        scaled = v * 10.0**k
-        # within a millionth of the quantum, plus the values' own representation error
-        tol = 1e-6 + 16.0 * eps * scale * 10.0**k
-        if np.all(np.abs(scaled - np.round(scaled)) <= tol):
-            return 10.0**-k
-    return None
+def _motion_block(out: FloatArray | None, shape: tuple[int, ...]) -> FloatArray:
+    """Return a new (4, *shape) block for S, V, A, J, or ``out`` checked to be one."""
+    if out is None:
+        return np.empty((4, *shape))
+    if out.shape != (4, *shape):
+        raise ValueError(f"out has shape {out.shape}; S, V, A, J need {(4, *shape)}")
+    return out
 
 
 #: Splines kept for re-use (one per distinct lift table; bounded so that Monte Carlo over

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from camtol.jet import FloatArray
 from camtol.kinematics import Kinematics, beyond_pressure_angle_limit
@@ -217,15 +218,24 @@ class CamGeometry:
         )
 
 
-def _smallest(values: FloatArray, theta_rad: FloatArray) -> tuple[float, float]:
-    """Smallest finite value and its angle in degrees, or (inf, nan) if there is none.
+def _smallest(
+    rho: FloatArray, rows: NDArray[np.bool_], theta_rad: FloatArray, *, concave: bool = False
+) -> tuple[float, float]:
+    """Smallest finite |ρ| among ``rows`` and its angle in degrees, or (inf, nan) if none.
 
-    ``values`` holds +inf where a row does not count; the first smallest row is taken.
+    The first such row is taken. Masked reductions, no full-length copy of ρ (a fresh
+    array costs page faults on long grids); ``rows`` never holds NaN rows.
     """
-    i = int(np.argmin(values))
-    if not values[i] < math.inf:  # no finite value (NaN rows were made +inf)
-        return math.inf, math.nan
-    return float(values[i]), math.degrees(theta_rad[i])
+    if concave:  # ρ < 0: the smallest |ρ| is the largest ρ
+        m = float(np.max(rho, where=rows, initial=-math.inf))
+        if not m > -math.inf:
+            return math.inf, math.nan
+    else:
+        m = float(np.min(rho, where=rows, initial=math.inf))
+        if not m < math.inf:
+            return math.inf, math.nan
+    i = int(np.argmax(rho == m))  # m is in ``rows``' range: equal rows are among them
+    return abs(m), math.degrees(theta_rad[i])
 
 
 def cam_geometry(
@@ -254,14 +264,9 @@ def cam_geometry(
         Pressure-angle range, smallest convex and concave radii with their angles, undercut.
     """
     theta, rho = kin.theta_rad, kin.curvature_radius_mm
-    # A comparison with NaN is False: NaN rows count as neither side, as ±inf ones. One
-    # array serves both sides (fresh full-length arrays cost page faults on long grids).
-    side = np.array(rho, dtype=float)
-    side[~(rho > 0.0)] = np.inf
-    convex, convex_at = _smallest(side, theta)
-    np.negative(rho, out=side)
-    side[~(side > 0.0)] = np.inf  # −ρ > 0 where ρ < 0
-    concave, concave_at = _smallest(side, theta)
+    # A comparison with NaN is False: NaN rows count as neither side, as ±inf ones.
+    convex, convex_at = _smallest(rho, rho > 0.0, theta)
+    concave, concave_at = _smallest(rho, rho < 0.0, theta, concave=True)
     roller = getattr(mechanism, "roller_radius_mm", None)
     if roller is None:
         convex_limit = "a flat face needs ρ > 0 everywhere (cusp or undercut otherwise)"

@@ -32,8 +32,14 @@ from __future__ import annotations
 from functools import cache
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-__all__ = ["second_difference_gain", "spline_acceleration_gain", "spline_acceleration_response"]
+__all__ = [
+    "second_difference_gain",
+    "spline_acceleration_gain",
+    "spline_acceleration_response",
+    "table_resolution",
+]
 
 
 def spline_acceleration_response(n_points: int) -> np.ndarray:
@@ -97,3 +103,30 @@ def second_difference_gain() -> float:
         4.0: alternating deviations of size s change a second difference by 4 s/Δθ².
     """
     return 4.0
+
+
+def table_resolution(values: ArrayLike, *, max_decimals: int = 12) -> float | None:
+    """Return the rounding quantum of tabulated values: the largest 10^-k dividing all.
+
+    Parameters
+    ----------
+    values : array_like
+        Tabulated lifts as written in the file. [mm or deg]
+    max_decimals : int
+        Beyond this many decimals the values count as carrying full precision.
+
+    Returns
+    -------
+    float or None
+        Q = 10^-k, or None for full precision.
+    """
+    v = np.asarray(values, dtype=float)
+    scale = max(float(np.max(np.abs(v))), 1.0)
+    eps = np.finfo(float).eps
+    for k in range(max_decimals + 1):
+        scaled = v * 10.0**k
+        # within a millionth of the quantum, plus the values' own representation error
+        tol = 1e-6 + 16.0 * eps * scale * 10.0**k
+        if np.all(np.abs(scaled - np.round(scaled)) <= tol):
+            return 10.0**-k
+    return None
