@@ -101,6 +101,15 @@ def test_no_radius_cures_v_at_least_one() -> None:
         minimum_base_radius(dataclasses.replace(d, program=fast))
 
 
+def test_no_radius_works_names_the_limits_given() -> None:
+    # A convex radius of 1e30 mm cannot be met; the message said which criteria failed but
+    # not the limits the user gave, so a mistyped limit was hard to spot.
+    d = load_example("roller-translating")
+    stated = r"\(\|φ\| ≤ 20°, convex ρ ≥ 1e\+30 mm\)"
+    with pytest.raises(DesignError, match=rf"no base radius .* {stated}"):
+        minimum_base_radius(d, pressure_angle_limit_deg=20.0, min_radius_mm=1e30)
+
+
 def test_cli_size_text_and_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["size", "--example", "roller-translating", "--pressure-angle-limit", "30"]) == 0
     out = capsys.readouterr().out

@@ -285,10 +285,19 @@ def _search(
         seen += problems
     if hi is None:
         reasons = ", ".join(sorted(set(seen))) or "no radius tried"
+        stated = [
+            f"{what} {value:g}{unit}"
+            for what, value, unit in (
+                ("|φ| ≤", limit, "°"),
+                ("convex ρ ≥", min_radius_mm, " mm"),
+                ("cutter radius", cutter_radius_mm, " mm"),
+            )
+            if value is not None
+        ]
         raise DesignError(
             f"no base radius from {ladder[0]:.3g} to {ladder[-1]:.3g} mm works for design"
             f" {design.name!r} ({reasons}); change the motion (longer segments, smaller"
-            " lift), the follower or the limits"
+            " lift), the follower or the limits" + (f" ({', '.join(stated)})" if stated else "")
         )
     while hi - lo > tolerance_mm:
         mid = 0.5 * (lo + hi)
