@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from camtol.design import CamDesign, ResolvedTolerance
-from camtol.jet import FloatArray, Jet, JetLike
+from camtol.jet import FloatArray, Jet, JetLike, broadcast_constant
 from camtol.sources import DESIGN_SOURCES
 
 __all__ = ["ErrorAnalysis", "SourceError", "error_analysis", "errors_from_sensitivities"]
@@ -160,7 +160,7 @@ class ErrorAnalysis:
         held = 0.0  # constant terms met before the first array term
         for src in self.sources.values():
             s = (src.sensitivity, src.sensitivity_d1, src.sensitivity_d2)[order]
-            c = _constant(s)
+            c = broadcast_constant(s)
             if c is None:
                 steps.append((s, src.deviation))
             elif c != 0.0:  # a broadcast constant: one scalar, not an array pass
@@ -235,13 +235,6 @@ class ErrorAnalysis:
     def rms_acceleration(self) -> FloatArray:
         """sqrt(Σ_p ΔA_p²). [mm/rad², or rad/rad²]"""
         return self.rms(2)
-
-
-def _constant(s: FloatArray) -> float | None:
-    """Return the value of a broadcast constant (a zero-stride array), else None."""
-    if s.ndim == 1 and s.size and s.strides == (0,):
-        return float(s[0])
-    return None
 
 
 def _as_jet(x: JetLike, like: FloatArray) -> Jet:

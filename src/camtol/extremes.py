@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from camtol.exceptions import DesignError
 from camtol.grid import run_bounds
-from camtol.jet import FloatArray
+from camtol.jet import FloatArray, broadcast_constant
 
 ExtremeKind = Literal["max", "min"]
 
@@ -199,10 +199,10 @@ def find_extremes(
     centres: dict[float, int] = {}  # window centre [rad] -> window index
     for name, vals in values.items():
         v = np.asarray(vals, dtype=float)
-        if v.ndim == 1 and v.size and v.strides == (0,) and math.isfinite(float(v[0])):
-            # A broadcast constant (e.g. ΔS_e of a translating follower) is held over the
-            # whole grid: no pass over it (numpy would copy it first, a page per 512 rows).
-            c, whole = float(v[0]), _plateaus(theta_rad, [(0, v.size - 1)], step_deg)
+        c = broadcast_constant(v)
+        if c is not None and math.isfinite(c):
+            # Held over the whole grid: no pass over it (numpy would copy it first).
+            whole = _plateaus(theta_rad, [(0, v.size - 1)], step_deg)
             for kind in ("max", "min"):
                 pending.append((name, kind, c, float(theta_rad[0]), whole))
             if not whole:  # a grid of a single step: refine as any other extreme

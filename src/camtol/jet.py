@@ -33,6 +33,7 @@ __all__ = [
     "arcsin",
     "arctan",
     "arctan2",
+    "broadcast_constant",
     "cos",
     "hypot",
     "reused_sincos",
@@ -211,6 +212,28 @@ def value(x: JetLike) -> FloatArray:
         ``x.v`` for a jet, otherwise ``x`` as a float array. [unit of x]
     """
     return x.v if isinstance(x, Jet) else np.asarray(x, dtype=float)
+
+
+def broadcast_constant(a: FloatArray) -> float | None:
+    """Return the value of a broadcast constant (a zero-stride line), else None.
+
+    camtol keeps a quantity that is the same at every angle (ΔS_e of a translating
+    follower, a flat face's pressure angle) as a read-only broadcast; sums and searches
+    take its one value instead of a pass over it (numpy would even copy it first).
+
+    Parameters
+    ----------
+    a : ndarray
+        A grid quantity. [any unit]
+
+    Returns
+    -------
+    float or None
+        Its value, or None when it is not a broadcast constant. [unit of a]
+    """
+    if a.ndim == 1 and a.size and a.strides == (0,):
+        return float(a[0])
+    return None
 
 
 #: Inside a :func:`reused_sincos` block: the last angles :func:`sincos` was given (a

@@ -19,7 +19,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol.jet import FloatArray
+from camtol.jet import FloatArray, broadcast_constant
 from camtol.kinematics import Kinematics, beyond_pressure_angle_limit
 from camtol.mechanisms.base import Mechanism
 from camtol.motion import LiftTable, MotionProgram
@@ -85,7 +85,7 @@ def _peak(values: FloatArray, theta_rad: FloatArray, *, scale: float = 1.0) -> P
     Only the two values found are scaled and converted (``math.degrees`` is numpy's
     ``degrees``, bit for bit), not the whole grid.
     """
-    if values.ndim == 1 and values.strides == (0,):  # a broadcast constant: no copy
+    if broadcast_constant(values) is not None:  # one value: no pass (numpy would copy it)
         i = j = 0  # what argmax and argmin give (NaN included)
     else:
         i, j = int(np.argmax(values)), int(np.argmin(values))
