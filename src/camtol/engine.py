@@ -14,7 +14,8 @@ evaluation of the mechanism's closed forms:
 - otherwise one evaluation of the contact geometry as jets serves both (the kinematics
   are its values).
 
-Long grids are evaluated in chunks of :data:`CHUNK` angles written into the result
+Long grids are evaluated in chunks (the mechanism's
+:attr:`~camtol.mechanisms.base.Mechanism.chunk_angles` angles) written into the result
 arrays, so the many intermediate arrays of the formulas stay in cache and never exist at
 full length: time and peak memory grow with what the result holds, not with the number
 of intermediate steps.
@@ -40,14 +41,11 @@ from camtol.mechanisms.base import ContactGeometry, Mechanism
 from camtol.motion import MotionState
 from camtol.sources import DESIGN_SOURCES
 
-__all__ = ["CHUNK", "evaluate_engine", "shared_dwells"]
+__all__ = ["MOTION_CHUNK", "evaluate_engine", "shared_dwells"]
 
-#: Angles per chunk: a few dozen intermediate arrays of this length fit in a core's cache.
-CHUNK = 16_384
-
-#: The motion program is evaluated this many chunks at a time: its formulas have few
-#: intermediate arrays, and one call on 36,001 angles costs less than three.
-MOTION_CHUNKS = 4
+#: Angles the motion program is evaluated at once: its formulas have few intermediate
+#: arrays, and one call on 36,001 angles costs less than three.
+MOTION_CHUNK = 65_536
 
 #: The contact point A and the instant centre Q (:class:`~camtol.kinematics.ContactPoints`).
 _POINTS = ("contact_x", "contact_y", "centre_x", "centre_y")
@@ -357,7 +355,7 @@ def evaluate_engine(
     left_limit: ArrayLike | None = None,
     *,
     check: bool = True,
-    chunk: int = CHUNK,
+    chunk: int | None = None,
     sensitivities: bool = True,
     motion: MotionState | None = None,
     sources: Collection[str] | None = None,
@@ -375,8 +373,9 @@ def evaluate_engine(
         Rows that take the left limit at a segment boundary.
     check : bool
         Raise if the geometry cannot work, as :func:`camtol.kinematics.kinematics`.
-    chunk : int
-        Angles evaluated at once. [-]
+    chunk : int, optional
+        Angles evaluated at once (default: the mechanism's
+        :attr:`~camtol.mechanisms.base.Mechanism.chunk_angles`). [-]
     sensitivities : bool
         Also the sensitivities; without them, the kinematics alone (what
         :func:`camtol.kinematics.kinematics` returns).
@@ -411,7 +410,7 @@ def evaluate_engine(
     left = np.zeros(theta.shape, bool) if left_limit is None else np.asarray(left_limit, bool)
     mech = design.mechanism
     if motion is None:
-        motion = _motion(design, theta, left, MOTION_CHUNKS * max(int(chunk), 1))
+        motion = _motion(design, theta, left, MOTION_CHUNK if chunk is None else max(int(chunk), 1))
     if check:
         check_velocity_ratio(design, theta, motion)
     shared = type(mech).error_sensitivities is Mechanism.error_sensitivities
@@ -437,7 +436,7 @@ def evaluate_engine(
     stored = 0  # rows of ``points`` written
     rows = np.ones(n, bool) if dwells else None
     chunk_sens: dict[str, JetLike]
-    step = max(int(chunk), 1)
+    step = max(int(mech.chunk_angles if chunk is None else chunk), 1)
     chunks = _dwell_chunks(theta, motion, step) if dwells else _chunks(theta, motion, step)
     for at, (t, s, v, acc, jerk), evaluated_state, spread, evaluated in chunks:
         th: JetLike

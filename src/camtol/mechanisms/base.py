@@ -165,6 +165,11 @@ class Mechanism(ABC):
     #: where the cam is. The engine then evaluates them once per dwell and turns the
     #: points (tested for every follower type that sets it).
     motion_only: ClassVar[bool] = False
+    #: Angles the analytic engine (:mod:`camtol.engine`) evaluates at once: the
+    #: intermediate arrays of :meth:`contact` and :meth:`error_sensitivities` at this
+    #: length should fit in a core's cache. A follower with lean formulas takes longer
+    #: chunks, so fewer numpy calls (measured by ``bench/bench_analyze.py``).
+    chunk_angles: ClassVar[int] = 16_384
 
     @classmethod
     def from_parameters(cls: type[M], values: Mapping[str, float | None]) -> M:
