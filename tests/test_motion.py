@@ -127,9 +127,68 @@ def test_a_grid_in_order_and_shuffled_give_the_same_motion() -> None:
     shuffled = p.evaluate(theta[order], left_limit=left[order])
     for field in ("lift", "velocity", "acceleration", "jerk"):
         np.testing.assert_array_equal(getattr(in_order, field)[order], getattr(shuffled, field))
-    runs = list(p._segment_rows(p.segment_index(theta, left_limit=left)))
+    runs = list(p._segment_rows(p._wrap(theta), left))
     assert all(isinstance(rows, slice) for _, rows in runs)
     assert [i for i, _ in runs] == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize("step_deg", [0.01, 0.0375, 0.3])
+def test_segment_runs_of_a_grid_in_order_are_the_segment_index(step_deg: float) -> None:
+    """Runs by binary search (a grid in order): the rows segment_index gives, row for row.
+
+    Analysis grids (each boundary twice, left limit first) and every slice of them the
+    engine evaluates, with 360° wrapped to 0 (not in order: compared instead).
+    """
+    from camtol.grid import ordered_segment_runs
+    from camtol.kinematics import analysis_grid
+
+    r = math.radians
+    programs = [
+        _cw06(),
+        SegmentProgram(  # starting off 0°: the grid wraps around the first start
+            (
+                Segment("rise", r(30), r(150), "polynomial_345", 5.0),
+                Segment("return", r(150), r(390), "cycloidal", 5.0),
+            )
+        ),
+    ]
+    for p in programs:
+        theta, left = analysis_grid(step_deg, p.boundaries_rad)
+        for a, b in ((0, theta.size), (0, theta.size - 1), (theta.size // 3, theta.size - 5)):
+            t, lft = p._wrap(theta[a:b]), left[a:b]
+            index = p.segment_index(t, left_limit=lft, wrapped=True)
+            runs = ordered_segment_runs(t, p._starts, lft)
+            if not np.all(np.diff(t) >= 0):
+                assert runs is None
+                continue
+            assert runs is not None
+            got = np.full(t.size, -1)
+            for i, lo, hi in runs:
+                assert (got[lo:hi] == -1).all()
+                got[lo:hi] = i
+            np.testing.assert_array_equal(got, index)
+            m = p.evaluate(theta[a:b], left_limit=lft)  # the numbers: as row by row
+            for row in np.random.default_rng(3).integers(0, t.size, 40):
+                one = p.evaluate(theta[a:b][row : row + 1], left_limit=lft[row : row + 1])
+                assert m.lift[row] == one.lift[0] and m.jerk[row] == one.jerk[0]
+
+
+def test_segment_runs_refuse_a_left_limit_after_its_right_limit() -> None:
+    from camtol.grid import ordered_segment_runs
+
+    t = np.array([0.0, 1.0, 1.0, 2.0])
+    starts = np.array([0.0, 1.0])
+    assert ordered_segment_runs(t, starts, np.array([False, True, False, False])) == [
+        (0, 0, 2),
+        (1, 2, 4),
+    ]
+    assert ordered_segment_runs(t, starts, np.array([False, False, True, False])) is None
+    assert ordered_segment_runs(t[::-1].copy(), starts) is None
+    # A left limit at the first start: the last segment (segment 0 is then empty).
+    assert ordered_segment_runs(t, starts, np.array([True, False, False, False])) == [
+        (1, 0, 1),
+        (1, 1, 4),
+    ]
 
 
 @pytest.mark.parametrize(

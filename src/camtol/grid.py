@@ -15,7 +15,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from camtol.exceptions import DesignError, InputFileError
 
-__all__ = ["MAX_GRID_POINTS", "check_step", "run_bounds", "uniform_table_step"]
+__all__ = [
+    "MAX_GRID_POINTS",
+    "check_step",
+    "ordered_segment_runs",
+    "run_bounds",
+    "uniform_table_step",
+]
 
 #: Most points of a grid over one revolution (0.0001° steps); beyond, memory and time
 #: grow without any gain in the numbers camtol reports.
@@ -146,3 +152,56 @@ def run_bounds(values: NDArray[Any]) -> list[int]:
     if values.size == 0:
         return [0]
     return [0, *(np.flatnonzero(values[1:] != values[:-1]) + 1).tolist(), values.size]
+
+
+def ordered_segment_runs(
+    theta_rad: NDArray[np.float64],
+    starts_rad: NDArray[np.float64],
+    left_limit: NDArray[np.bool_] | None = None,
+) -> list[tuple[int, int, int]] | None:
+    """Return the rows of each segment of a grid in order, by binary search; else None.
+
+    The rows of segment ``k`` are those with ``starts[k] <= θ < starts[k + 1]``, except
+    that a left-limit row lying on a start belongs to the segment that ends there (the
+    last one for the first start), as :meth:`camtol.motion.SegmentProgram.segment_index`
+    assigns them. On a non-decreasing grid whose left-limit rows at a start come before
+    its other rows there (as :func:`camtol.kinematics.analysis_grid` builds them), each
+    segment is one run, found by a search per start instead of a comparison per row
+    and start.
+
+    Parameters
+    ----------
+    theta_rad : ndarray
+        One-dimensional grid, already in the revolution that starts at ``starts[0]``.
+        [rad]
+    starts_rad : ndarray
+        Start of each segment, increasing. [rad]
+    left_limit : ndarray of bool, optional
+        The grid's left-limit rows.
+
+    Returns
+    -------
+    list of (int, int, int) or None
+        ``(segment, first row, end row)`` of every non-empty run; None when the grid is
+        not in that order (the caller compares instead).
+    """
+    t = theta_rad
+    if t.ndim != 1 or t.size < 2 or not bool(np.all(t[1:] >= t[:-1])):
+        return None
+    bounds = np.searchsorted(t, starts_rad, side="left").tolist()
+    if left_limit is not None:
+        rows = np.flatnonzero(left_limit)
+        at_start = rows[np.isin(t[rows], starts_rad)].tolist()
+        for k, start in enumerate(starts_rad.tolist()):
+            while at_start and bounds[k] < t.size and bounds[k] == at_start[0]:
+                if t[bounds[k]] != start:
+                    break
+                at_start.pop(0)
+                bounds[k] += 1  # the left limit belongs to the segment before
+        if at_start:  # a left limit after a right one: not this order
+            return None
+    last = len(bounds) - 1
+    runs = [(last, 0, bounds[0])]  # left limits at the first start: the last segment
+    runs += [(k, bounds[k], bounds[k + 1]) for k in range(last)]
+    runs.append((last, bounds[last], t.size))
+    return [r for r in runs if r[2] > r[1]]

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from camtol.exceptions import DesignError
-from camtol.grid import run_bounds
+from camtol.grid import ordered_segment_runs, run_bounds
 from camtol.motion_laws import MOTION_LAWS, MotionLawName, NormalizedLaw, normalized_law
 
 FloatArray = NDArray[np.float64]
@@ -330,14 +330,26 @@ class SegmentProgram(MotionProgram):
         return idx
 
     def _segment_rows(
-        self, idx: NDArray[np.intp]
+        self, t: FloatArray, left_limit: ArrayLike | None
     ) -> Iterator[tuple[int, slice | NDArray[np.intp]]]:
-        """Yield (segment, its rows) for the segment index of each angle.
+        """Yield (segment, its rows) for wrapped angles ``t``.
 
         A grid in order holds each segment in a run or two (the angle 360° belongs to
-        the first segment again): runs are slices, views into the result. Angles in no
+        the first segment again): runs are slices, views into the result, found by a
+        binary search per start on a long grid without wrapped angles. Angles in no
         order (the extremes' refinement windows) are taken segment by segment.
         """
+        left = (
+            None if left_limit is None else np.broadcast_to(np.asarray(left_limit, bool), t.shape)
+        )
+        ordered = (
+            ordered_segment_runs(t, self._starts, left) if t.size >= _COMPARED_ANGLES else None
+        )
+        if ordered is not None:
+            for i, lo, hi in ordered:
+                yield i, slice(lo, hi)
+            return
+        idx = np.atleast_1d(self.segment_index(t, left_limit=left, wrapped=True))
         if idx.ndim == 1 and idx.size:
             bounds = run_bounds(idx)
             if len(bounds) - 2 < 2 * len(self.segments):
@@ -392,11 +404,10 @@ class SegmentProgram(MotionProgram):
         """
         theta = np.asarray(theta_rad, dtype=float)
         t = np.atleast_1d(self._wrap(theta))
-        idx = np.atleast_1d(self.segment_index(t, left_limit=left_limit, wrapped=True))
         # One block for S, V, A, J: a large allocation gets huge pages (fewer page faults).
         # Every row belongs to a segment, and every segment writes all four of its rows.
         out = _motion_block(out, t.shape)
-        for i, m in self._segment_rows(idx):
+        for i, m in self._segment_rows(t, left_limit):
             seg = self.segments[i]
             if seg.kind == "dwell":
                 out[0][m] = self._levels[i]
