@@ -114,6 +114,28 @@ def test_a_curves_deviation_is_known_without_computing_it(name: str) -> None:
         assert c._deviation(key) == c._base(key)[1], key
 
 
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_the_radial_factor_is_searched_once_as_the_radial_sensitivity(name: str) -> None:
+    """ΔS_r/Δr and ΔS_r share one array: one search, each extreme under its own name."""
+    a = analyse(load_example(name), step_deg=0.5)
+    assert list(a.extremes) == [q.key for q in a.quantities]  # report order
+    hi, lo = a.extremes["radial_factor"]
+    assert hi.quantity == lo.quantity == "radial_factor"
+    assert (hi.kind, lo.kind) == ("max", "min")
+    if "r" not in a.errors.sources:  # no Δr toleranced: nothing shared
+        assert "dS_r" not in a.extremes
+        return
+    dev = a.errors.sources["r"].deviation
+    s_hi, s_lo = a.extremes["dS_r"]
+    assert s_hi.quantity == "dS_r"
+    pairs = ((s_hi, hi), (s_lo, lo)) if dev > 0 else ((s_hi, lo), (s_lo, hi))
+    for scaled, radial in pairs:
+        assert scaled.value == radial.value * dev
+        assert (scaled.theta_deg, scaled.ranges_deg) == (radial.theta_deg, radial.ranges_deg)
+    r = a.curves["radial_factor"]
+    assert hi.value >= r.max() and lo.value <= r.min()
+
+
 def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
     # A smooth maximum, a kink minimum |sin| and a one-sided maximum at a jump, from a
     # 1° grid: located to 1e-3° (step/1000) or better.

@@ -13,7 +13,7 @@ import contextlib
 import functools
 import math
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NoReturn
 
 import numpy as np
@@ -394,9 +394,22 @@ def _extremes(
         whose max and min are finite is finite everywhere), naming the first such
         quantity in report order and where.
     """
-    keys = [q.key for q in quantities]
     labels = {q.key: q.label for q in quantities}
-    factors = {k: curves._deviation(k) for k in keys}  # a source's deviation, else None
+    factors = {q.key: curves._deviation(q.key) for q in quantities}  # a deviation, or None
+    # Quantities searched on the same stored array (the radial factor is ΔS_r's
+    # sensitivity) are searched once: the later takes the first one's extremes.
+    keys: list[str] = []
+    same: dict[str, str] = {}
+    stored: dict[int, str] = {}
+    for q in quantities:
+        if q.key.endswith(("_worst", "_rms")) or factors[q.key] == 0.0:  # computed curves
+            keys.append(q.key)
+            continue
+        first = stored.setdefault(id(curves._base(q.key)[0]), q.key)
+        if first == q.key:
+            keys.append(q.key)
+        else:
+            same[q.key] = first
 
     def pick(c: Curves, key: str, out: FloatArray | None = None) -> FloatArray:
         return c[key] if factors[key] == 0.0 else c._base(key, out)[0]
@@ -425,6 +438,10 @@ def _extremes(
         return {k: pick(c, k) for k in names}
 
     found = find_extremes(theta_rad, _Lazy(), values, step_deg=step_deg, on_nonfinite=nonfinite)
+    for key, first in same.items():
+        hi, lo = found[first]
+        found[key] = (replace(hi, quantity=key), replace(lo, quantity=key))
+    found = {q.key: found[q.key] for q in quantities}  # in report order
     # A source's extremes are its sensitivity's × its deviation (finite sensitivities × a
     # deviation may still overflow: scaled_extremes says where).
     out = {}
