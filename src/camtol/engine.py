@@ -344,7 +344,12 @@ def _geometry_values(
         key: getattr(g, key) for key in _GEOMETRY if not (key == "q" and g.q is v)
     }
     values.update({key: g.extras[key] for key in _EXTRAS if key in g.extras})
-    values["radius"] = jet.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+    radius = g.extras.get("radius")  # |O2A| in closed form, when the follower has one
+    values["radius"] = (
+        jet.hypot(jet.value(g.contact_x), jet.value(g.contact_y))
+        if radius is None
+        else jet.value(radius)
+    )
     values["curvature_radius"] = mech.curvature_radius(t, s, v, acc)
     return values
 

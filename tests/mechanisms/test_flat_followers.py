@@ -248,6 +248,32 @@ def test_jet_and_plain_contact_agree() -> None:
     assert jet.value(jets.shift_angle) == pytest.approx(plain.shift_angle, rel=1e-13, abs=1e-13)
 
 
+@given(translating_designs)
+def test_translating_closed_form_shift_angle_and_radius_equal_the_points(
+    design: CamDesign,
+) -> None:
+    """λ = asin(p'/|O2A|) and |O2A| = √(p² + p'²) (the support function) as jets: those of
+    the cross product of §2.5 and of the contact point's norm, derivatives included."""
+    from camtol.mechanisms.base import shift_angle
+
+    m = design.program.evaluate(THETA)
+    g = design.mechanism.contact(
+        Jet.variable(THETA),
+        to_jet(m.lift, m.velocity, m.acceleration),
+        to_jet(m.velocity, m.acceleration, m.jerk),
+    )
+    general = shift_angle(g.contact_x, g.contact_y, g.centre_x, g.centre_y)
+    norm = jet.hypot(g.contact_x, g.contact_y)
+    for closed, points, atol in ((g.shift_angle, general, 1e-12), (g.extras["radius"], norm, 1e-9)):
+        assert isinstance(closed, Jet) and isinstance(points, Jet)
+        for part in ("v", "d1", "d2"):
+            np.testing.assert_allclose(getattr(closed, part), getattr(points, part), atol=atol)
+    # Plain arrays (the engine's path): the same values.
+    plain = design.mechanism.contact(THETA, m.lift, m.velocity)
+    np.testing.assert_allclose(plain.shift_angle, general.v, atol=1e-14)
+    np.testing.assert_allclose(plain.extras["radius"], norm.v, rtol=1e-15)
+
+
 @given(st.one_of(translating_designs, oscillating_designs))
 def test_lean_sensitivities_equal_general_form(design: CamDesign) -> None:
     """The hot path (support-function forms) agrees with the cross-product λ of §2.5."""

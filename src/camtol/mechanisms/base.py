@@ -105,7 +105,9 @@ class ContactGeometry:
         Shift angle λ between O2A and the common normal AQ (THEORY §2.5). [rad]
     extras : dict
         Mechanism-specific arrays (e.g. ``face_contact`` u, ``follower_angle`` ξ,
-        ``pitch_x``/``pitch_y`` for rollers). Units in the mechanism's docstring.
+        ``pitch_x``/``pitch_y`` for rollers). Units in the mechanism's docstring. A
+        ``radius`` |O2A| in closed form [mm] is what the analytic engine reports instead
+        of the norm of the contact point.
     """
 
     contact_x: JetLike

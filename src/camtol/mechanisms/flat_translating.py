@@ -33,7 +33,6 @@ from camtol.mechanisms.base import (
     register_follower,
     require_finite,
     require_positive,
-    shift_angle,
 )
 
 __all__ = ["FlatTranslating"]
@@ -121,7 +120,7 @@ class FlatTranslating(Mechanism):
         """Contact point, instant centre, λ and u (THEORY §2.1, CW06 eqs. 1-10).
 
         Extras: ``face_contact`` u = |PA|, signed distance along the face from the
-        reference point P to the contact point [mm].
+        reference point P to the contact point [mm]; ``radius`` |O2A| [mm].
         """
         phi, e = self.face_angle_rad, self.offset_mm
         cphi, sphi = math.cos(phi), math.sin(phi)
@@ -134,8 +133,20 @@ class FlatTranslating(Mechanism):
         qx, qy = -q * s, q * c
         u = big_l * sphi + (q - e) * cphi
         pressure = jet.value(theta) * 0.0 + phi
+        # λ and |O2A| from the support function p = r_b + S cos φ and p' = V cos φ (class
+        # Notes): sin λ = p'/|O2A| with |O2A| = √(p² + p'²), THEORY §2.5. The same angle
+        # as shift_angle() of the points (tested), in a third of its operations.
+        p, dp = lift * cphi + self.base_radius_mm, q * cphi
+        radius = jet.hypot(p, dp)
         return ContactGeometry(
-            ax, ay, qx, qy, q, pressure, shift_angle(ax, ay, qx, qy), {"face_contact": u}
+            ax,
+            ay,
+            qx,
+            qy,
+            q,
+            pressure,
+            jet.arcsin(dp / radius),
+            {"face_contact": u, "radius": radius},
         )
 
     def sensitivities(self, geometry: ContactGeometry, theta: JetLike) -> dict[str, JetLike]:
