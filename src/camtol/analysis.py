@@ -374,6 +374,27 @@ class Curves(Mapping[str, FloatArray]):
         return len(self._keys)
 
 
+class _LazyCurves(Mapping[str, FloatArray]):
+    """Curves read one at a time, each computed when read (never all at once).
+
+    A module-level class: one defined inside :func:`_extremes` is a new class object per
+    call, and a class is always in a reference cycle, so its closure (the curves, hence
+    every result array) outlived the analysis until the garbage collector ran.
+    """
+
+    def __init__(self, keys: list[str], read: Callable[[str], FloatArray]) -> None:
+        self._keys, self._read = keys, read
+
+    def __getitem__(self, key: str) -> FloatArray:
+        return self._read(key)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys)
+
+    def __len__(self) -> int:
+        return len(self._keys)
+
+
 def _extremes(
     curves: Curves,
     quantities: tuple[Quantity, ...],
@@ -418,16 +439,6 @@ def _extremes(
     # computed ones (worst case, RMS) share one array instead of a fresh one each.
     scratch = np.empty(theta_rad.shape)
 
-    class _Lazy(Mapping[str, FloatArray]):  # one curve at a time, never all at once
-        def __getitem__(self, key: str) -> FloatArray:
-            return pick(curves, key, scratch)
-
-        def __iter__(self) -> Iterator[str]:
-            return iter(keys)
-
-        def __len__(self) -> int:
-            return len(keys)
-
     def nonfinite(key: str, i: int) -> None:
         _not_finite(labels[key], float(curves[key][i]), float(theta_rad[i]))
 
@@ -437,7 +448,8 @@ def _extremes(
         c = evaluate(t, any(k[:3] in ("dV_", "dA_") for k in names))
         return {k: pick(c, k) for k in names}
 
-    found = find_extremes(theta_rad, _Lazy(), values, step_deg=step_deg, on_nonfinite=nonfinite)
+    lazy = _LazyCurves(keys, lambda key: pick(curves, key, scratch))
+    found = find_extremes(theta_rad, lazy, values, step_deg=step_deg, on_nonfinite=nonfinite)
     for key, first in same.items():
         hi, lo = found[first]
         found[key] = (replace(hi, quantity=key), replace(lo, quantity=key))
