@@ -20,13 +20,23 @@ def best_of_both(fn: Callable[[], object], repeat: int) -> tuple[float, float]:
 
     On a loaded machine the wall time includes waiting for a core; the thread's CPU time
     does not, so it shows what the code itself costs.
+
+    Each call's result is held until the next call has returned, as a caller holds what
+    it asked for. A result dropped at once leaves the whole of its memory free at the top
+    of the C library's heap, which glibc then returns to the kernel (its trim threshold
+    is twice the largest block freed so far), and the next call faults every page back
+    in: half of an analysis at 36,001 angles (docs/performance.md). Held, the previous
+    result is freed below the new one and its memory is reused. Every side of a ratio
+    is timed by this function, so baselines are held alike.
     """
     wall = cpu = math.inf
+    result: object = None
     for _ in range(repeat):
         t0, c0 = time.perf_counter(), time.thread_time()
-        fn()
+        result = fn()  # the previous result lives until this one is returned
         cpu = min(cpu, time.thread_time() - c0)
         wall = min(wall, time.perf_counter() - t0)
+    del result
     return wall, cpu
 
 
