@@ -421,12 +421,13 @@ def _extremes(
     # sensitivity) are searched once: the later takes the first one's extremes.
     keys: list[str] = []
     same: dict[str, str] = {}
-    stored: dict[int, str] = {}
+    stored: dict[int, tuple[str, FloatArray]] = {}  # the array too: its id stays its own
     for q in quantities:
         if q.key.endswith(("_worst", "_rms")) or factors[q.key] == 0.0:  # computed curves
             keys.append(q.key)
             continue
-        first = stored.setdefault(id(curves._base(q.key)[0]), q.key)
+        array = curves._base(q.key)[0]
+        first = stored.setdefault(id(array), (q.key, array))[0]
         if first == q.key:
             keys.append(q.key)
         else:
