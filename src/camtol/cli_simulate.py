@@ -49,7 +49,7 @@ def simulate() -> None:
 )
 @click.option(
     "--noise-um",
-    type=Number(low=0, unit="µm"),
+    type=Number(low=0, high=1_000, unit="µm"),  # camtol.inspection.twin.MAX_NOISE_UM
     default=1.0,
     show_default=True,
     help="Probe noise along the normal (standard deviation) [µm].",
@@ -58,14 +58,14 @@ def simulate() -> None:
 @click.option(
     "--stylus-radius-mm",
     "stylus_mm",
-    type=Number(low=0, unit="mm"),
+    type=Number(low=0, high=1_000, unit="mm"),  # twin.MAX_STYLUS_RADIUS_MM
     default=0.0,
     show_default=True,
     help="Write stylus-ball centres of this radius (0: surface points) [mm].",
 )
 @click.option(
     "--eccentricity-um",
-    type=Number(unit="µm"),
+    type=Number(low=-1e7, high=1e7, unit="µm"),  # twin.MAX_ECCENTRICITY_UM: 10 m
     default=0.0,
     show_default=True,
     help="Placement offset of the cam centre on the machine [µm].",

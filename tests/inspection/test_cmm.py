@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -466,3 +467,46 @@ def test_twin_placement_angles_are_bounded(cw11) -> None:  # type: ignore[no-unt
     for kw in ({"rotation_deg": 1e30}, {"eccentricity_deg": -361.0}, {"rotation_deg": math.nan}):
         with pytest.raises(DesignError, match="from -360 to 360"):
             simulate_scan(cw11, points=360, **kw)
+
+
+def test_twin_magnitudes_are_bounded(cw11) -> None:  # type: ignore[no-untyped-def]
+    """Noise, stylus and placement beyond any measurement are refused, by name and bound.
+
+    1e30 µm of eccentricity put the points 1e24 mm out, with no µm left in their digits.
+    """
+    from camtol.inspection import twin
+
+    simulate_scan(cw11, points=360, noise_um=twin.MAX_NOISE_UM, eccentricity_um=-1e7)
+    for kw, bound in (
+        ({"noise_um": 1e30}, "from 0 to 1000"),
+        ({"stylus_radius_mm": 2e3}, "from 0 to 1000"),
+        ({"eccentricity_um": 1e30}, "from -1e+07 to 1e+07"),
+        ({"eccentricity_um": math.nan}, "from -1e+07 to 1e+07"),
+    ):
+        name = next(iter(kw))
+        with pytest.raises(
+            DesignError, match=rf"{name}=.* is not allowed; give a number {re.escape(bound)}"
+        ):
+            simulate_scan(cw11, points=360, **kw)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("kind", ["normal", "radial"])
+def test_a_profile_error_that_folds_the_profile_is_refused(kind: str) -> None:
+    """Removing more material than the smallest convex radius folds the profile over
+    itself: the twin says where instead of writing a curve no cam can have."""
+    from camtol import analyse
+    from camtol.exceptions import GeometryError
+
+    design = load_example("cw06-translating")
+    rho = analyse(design).geometry[0].min_convex_radius_mm
+    fits = simulate_scan(
+        design, points=720, noise_um=0.0, profile_error=FourierError(-0.5 * rho), error_kind=kind
+    )
+    assert np.all(np.isfinite(fits.x_mm))
+    with pytest.raises(GeometryError, match=rf"cam A: a {kind} profile error of up to .* folds"):
+        simulate_scan(design, points=720, profile_error=FourierError(-1e3 * rho), error_kind=kind)
+    if kind == "normal":  # an offset along the normal folds just past ρ
+        with pytest.raises(GeometryError, match=r"at θ=\d+\.\d\d°"):
+            simulate_scan(
+                design, points=720, profile_error=FourierError(-1.5 * rho), error_kind=kind
+            )

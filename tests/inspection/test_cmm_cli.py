@@ -504,3 +504,33 @@ def test_cmm_scan_options_without_scans_are_refused(  # type: ignore[no-untyped-
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert f"{option}=" in err and "applies to CMM scans: give --cmm-a and --cmm-b" in err
     assert not (tmp_path / "r.html").exists()
+
+
+def test_simulate_cmm_magnitudes_are_the_twins_bounds(capsys, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    """Beyond the twin's bounds (the command line states them as the library does), or a
+    profile error that folds the cam: exit 2, one line, nothing written."""
+    from camtol.inspection import twin
+
+    out = tmp_path / "s.csv"
+    for flag, most in (
+        ("--noise-um", twin.MAX_NOISE_UM),
+        ("--stylus-radius-mm", twin.MAX_STYLUS_RADIUS_MM),
+        ("--eccentricity-um", twin.MAX_ECCENTRICITY_UM),
+    ):
+        code, _, err = _run(
+            capsys, "simulate", "cmm", "-e", "cw06-translating", "-o", str(out), flag, "1e30"
+        )
+        assert code == 2 and f"{flag}=1e+30 is not allowed" in err and f"to {most:g}" in err
+        assert len(err.strip().splitlines()) == 1 and not out.exists()
+    code, _, err = _run(
+        capsys,
+        "simulate",
+        "cmm",
+        "-e",
+        "cw06-translating",
+        "-o",
+        str(out),
+        "--error-mean-um=-1e30",
+    )
+    assert code == 2 and "folds the profile over itself" in err
+    assert not out.exists() and not out.with_name("s.truth.json").exists()

@@ -27,14 +27,17 @@ import numpy as np
 
 from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixture
 from camtol.design import CamDesign
-from camtol.exceptions import DesignError
+from camtol.exceptions import DesignError, GeometryError
 from camtol.inspection.cmm import MIN_POINTS, CamLabel
 from camtol.inspection.conjugate import FixtureErrors
-from camtol.inspection.deviations import cam_profile, check_stylus
+from camtol.inspection.deviations import CamProfile, cam_profile, check_stylus
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
 __all__ = [
+    "MAX_ECCENTRICITY_UM",
+    "MAX_NOISE_UM",
+    "MAX_STYLUS_RADIUS_MM",
     "ErrorKind",
     "ScanTruth",
     "error_from_truth",
@@ -176,6 +179,41 @@ class SimulatedScan:
     truth: ScanTruth
 
 
+#: Largest probe noise (standard deviation) a simulated scan takes: 1 mm. [µm]
+MAX_NOISE_UM = 1_000.0
+#: Largest stylus-ball radius a simulated scan takes. [mm]
+MAX_STYLUS_RADIUS_MM = 1_000.0
+#: Largest placement offset of the cam centre on the machine: 10 m. [µm]
+MAX_ECCENTRICITY_UM = 1e7
+
+
+def _check_no_fold(
+    prof: CamProfile,
+    t: FloatArray,
+    dx: FloatArray,
+    dy: FloatArray,
+    profile_error: FourierError,
+    error_kind: str,
+) -> None:
+    """Refuse a profile error that folds the profile: its tangent turned back somewhere.
+
+    An offset larger than the local radius of curvature (inward on a convex flank,
+    outward in a hollow) turns the profile's tangent against the nominal one: the curve
+    it describes crosses itself, which no machined cam does.
+    """
+    nominal = AnalyticShape(prof.mechanism, prof.design.program)
+    nx, ny = nominal.jets(t)
+    ahead = dx * nx.d1 + dy * ny.d1  # true tangent · nominal tangent
+    bad = np.flatnonzero(~(ahead > 0.0))
+    if bad.size:
+        size_um = float(np.max(np.abs(profile_error(t).v))) * 1e3
+        raise GeometryError(
+            f"cam {prof.label}: a {error_kind} profile error of up to {size_um:.4g} µm folds"
+            f" the profile over itself at θ={math.degrees(float(t[bad[0]])):.2f}° (larger"
+            " than the radius of curvature there); give a smaller error"
+        )
+
+
 def simulate_scan(
     design: CamDesign,
     *,
@@ -225,10 +263,29 @@ def simulate_scan(
     Returns
     -------
     SimulatedScan
+
+    Raises
+    ------
+    DesignError
+        A value out of its bounds (noise up to :data:`MAX_NOISE_UM`, stylus radius up
+        to :data:`MAX_STYLUS_RADIUS_MM`, eccentricity within :data:`MAX_ECCENTRICITY_UM`).
+    GeometryError
+        A stylus that bridges a hollow of the cam, or a profile error that folds the
+        profile over itself (larger somewhere than the radius of curvature).
     """
-    for name, value in (("noise_um", noise_um), ("stylus_radius_mm", stylus_radius_mm)):
-        if not (math.isfinite(value) and value >= 0):
-            raise DesignError(f"{name}={value!r} is not allowed; give a number ≥ 0")
+    # Beyond these the scan describes no measurement, and points a kilometre out keep
+    # too few digits for a profile measured in µm.
+    for name, value, most in (
+        ("noise_um", noise_um, MAX_NOISE_UM),
+        ("stylus_radius_mm", stylus_radius_mm, MAX_STYLUS_RADIUS_MM),
+    ):
+        if not (math.isfinite(value) and 0 <= value <= most):
+            raise DesignError(f"{name}={value!r} is not allowed; give a number from 0 to {most:g}")
+    if not abs(eccentricity_um) <= MAX_ECCENTRICITY_UM:
+        raise DesignError(
+            f"eccentricity_um={eccentricity_um!r} is not allowed; give a number from"
+            f" {-MAX_ECCENTRICITY_UM:g} to {MAX_ECCENTRICITY_UM:g}"
+        )
     # An angle of 1e30° has no direction left in double precision: refuse, not guess.
     for name, value in (("eccentricity_deg", eccentricity_deg), ("rotation_deg", rotation_deg)):
         if not abs(value) <= 360.0:
@@ -251,6 +308,8 @@ def simulate_scan(
     )
     t = np.linspace(0.0, 2 * math.pi, points, endpoint=False)
     px, py = shape.jets(t)
+    if profile_error is not None:
+        _check_no_fold(prof, t, px.d1, py.d1, profile_error, error_kind)
     speed = np.hypot(px.d1, py.d1)
     nx, ny = py.d1 / speed, -px.d1 / speed  # outward: the tangent turned clockwise
     rng = np.random.default_rng(seed)
