@@ -323,7 +323,6 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
             ["simulate", "cmm", "-o", "s.csv", "--noise-um", "nan"],
             "--noise-um=nan is not allowed; give a number from 0 to 1000 in µm",
         ),
-
         (
             ["simulate", "cmm", "-o", "s.csv", "--points", "1.5"],
             "--points='1.5' is not a whole number",
