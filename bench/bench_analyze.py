@@ -22,8 +22,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from common import Figure, best_of_both, print_figures  # noqa: E402
 
-from camtol.analysis import analyse  # noqa: E402
-from camtol.config import example_names, load_example  # noqa: E402
+from camtol.analysis.result import analyse  # noqa: E402
+from camtol.config.design_file import example_names, load_example  # noqa: E402
 
 TARGETS_MS = {3_601: 3.0, 36_001: 10.0}
 RATIO_TARGET = 2.0

@@ -25,7 +25,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from common import Figure, print_figures  # noqa: E402
 
-from camtol.config import load_example  # noqa: E402
+from camtol.config.design_file import load_example  # noqa: E402
 from camtol.contact.engine import follow  # noqa: E402
 from camtol.contact.flat import follow_flat_translating  # noqa: E402
 from camtol.contact.shapes import AnalyticShape, PolygonShape  # noqa: E402

@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from common import Figure, print_figures  # noqa: E402
 
-from camtol.config import load_example  # noqa: E402
+from camtol.config.design_file import load_example  # noqa: E402
 from camtol.contact import AnalyticShape  # noqa: E402
 from camtol.inspection.deviations import cam_profile  # noqa: E402
 from camtol.inspection.functional import (  # noqa: E402

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from camtol.config import design_from_mapping, load_example
+from camtol.config.design_file import design_from_mapping, load_example
 from camtol.manufacturing.cutting import cut_cam, simulate_cut
 from camtol.manufacturing.gcode import write_gcode
 from camtol.manufacturing.precision import table_precision

@@ -20,8 +20,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 from common import Figure  # noqa: E402
 
-from camtol.config import load_example
-from camtol.design import ToleranceSpec
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import ToleranceSpec
 from camtol.tolerancing import allocate, monte_carlo
 
 

@@ -39,7 +39,7 @@ _CHILD = r"""
 import json, resource, sys, time
 t = time.perf_counter()
 if sys.argv[1] == "camtol":
-    from camtol.inspection import process_record, read_indicator_csv
+    from camtol.pair.indicator import process_record, read_indicator_csv
     rec = read_indicator_csv(sys.argv[2])
     p = process_record(rec)
     rows = rec.df_um.size

@@ -7,7 +7,7 @@ SQLite file in a temporary directory; needs ``camtol[store]``):
   record row, curve blob), against the fair floor: a plain ``sqlite3`` INSERT of the same
   blob in its own transaction on the same kind of file (both commit to disk);
 * ``read``: all records with their curves (``records stats`` reads this);
-* ``stats``: :func:`camtol.inspection.lots.lot_statistics` on them.
+* ``stats``: :func:`camtol.records.lots.lot_statistics` on them.
 
 Targets (a shop records a part in seconds; a lot's statistics should feel instant):
 a record ≤ 25 ms and ≤ 5× the plain sqlite3 insert; reading 200 curves ≤ 0.2 s; the
@@ -32,8 +32,8 @@ N_POINTS = 3600
 
 
 def main(parts: int = 200) -> list[Figure]:
-    from camtol.inspection.lots import lot_statistics
-    from camtol.inspection.store import Traceability, make_record, open_store
+    from camtol.records.lots import lot_statistics
+    from camtol.records.store import Traceability, make_record, open_store
 
     rng = np.random.default_rng(1)
     curves = rng.normal(0.0, 5.0, size=(parts, N_POINTS))

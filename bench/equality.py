@@ -65,6 +65,8 @@ PER_EXAMPLE = [
 
 #: Keys whose values are wall-clock times or library versions, not results.
 VOLATILE_KEYS = re.compile(r'"(stored_at|created_at|inspected_at|time_utc)": "[^"]*"')
+#: The HTML report's "generated YYYY-MM-DD HH:MM UTC" stamp.
+GENERATED = re.compile(r"generated \d{4}-\d\d-\d\d \d\d:\d\d UTC")
 
 
 #: Set EQUALITY_KEEP=DIR to keep every normalised output file there (to read a difference).
@@ -106,7 +108,8 @@ def _digest(text: str | bytes) -> str:
 
 
 def _normalise(text: str, tmp: str) -> str:
-    return VOLATILE_KEYS.sub(r'"\1": "-"', text.replace(tmp, "{tmp}"))
+    text = VOLATILE_KEYS.sub(r'"\1": "-"', text.replace(tmp, "{tmp}"))
+    return GENERATED.sub("generated -", text)
 
 
 def run_matrix() -> dict[str, dict[str, object]]:
@@ -129,7 +132,7 @@ def run_matrix() -> dict[str, dict[str, object]]:
             for p in sorted(Path(tmp).iterdir()):
                 if p.is_file() and before.get(p) != p.stat().st_mtime_ns:
                     raw = p.read_bytes()
-                    if p.suffix in {".csv", ".json", ".nc", ".svg", ".txt"}:
+                    if p.suffix in {".csv", ".json", ".nc", ".svg", ".txt", ".html"}:
                         raw = _normalise(raw.decode("utf-8", "replace"), tmp).encode()
                     if p.suffix == ".db":  # a store: its rows are checked through records
                         continue

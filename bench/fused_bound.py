@@ -12,7 +12,7 @@ written for this measurement only and checked against camtol's numbers:
    be ≤ 2. What it leaves out (the extremes' refinement on a few hundred points, the
    geometry checks) costs about 1 ms.
 2. The engine of the oscillating roller (geometry, ρ, the lean sensitivities of THEORY
-   §3.3 as jets) at 36,001 angles against ``camtol.engine.evaluate_engine``.
+   §3.3 as jets) at 36,001 angles against ``camtol.analysis.engine.evaluate_engine``.
 
 numba is not a camtol dependency; ``pip install -e ".[bench]"`` installs it.
 """
@@ -36,9 +36,9 @@ try:
 except ModuleNotFoundError:  # pragma: no cover - optional
     sys.exit('fused_bound.py needs numba, which camtol does not: pip install -e ".[bench]"')
 
-from camtol.config import load_example  # noqa: E402
-from camtol.engine import evaluate_engine  # noqa: E402
-from camtol.kinematics import analysis_grid  # noqa: E402
+from camtol.analysis.engine import evaluate_engine  # noqa: E402
+from camtol.analysis.kinematics import analysis_grid  # noqa: E402
+from camtol.config.design_file import load_example  # noqa: E402
 
 TWO_PI = 2.0 * math.pi
 
@@ -252,7 +252,8 @@ def roller_engine() -> None:
     t_engine = best_of(lambda: evaluate_engine(design, theta, left, motion=mo, check=False), 10)
     print(
         f"oscillating roller engine @ {theta.size:,}: fused kernel {t_kernel * 1e3:.2f} ms,"
-        f" camtol.engine {t_engine * 1e3:.2f} ms: {t_engine / t_kernel:.1f}x (same numbers)"
+        f" camtol.analysis.engine {t_engine * 1e3:.2f} ms:"
+        f" {t_engine / t_kernel:.1f}x (same numbers)"
     )
 
 

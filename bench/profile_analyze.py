@@ -11,7 +11,7 @@ that work on the speed targets of issue 8 starts from measurements:
 - ``extremes scan``: the rest of the extremes' search (curves, argmax, windows);
 - ``rest``: everything else (tolerances, geometry figures, motion peaks, checks).
 
-Each stage is timed by wrapping the function ``camtol.analysis`` calls for it; the call
+Each stage is timed by wrapping the function ``camtol.analysis.result`` calls for it; the call
 with the smallest total is reported. [ms]
 """
 
@@ -24,9 +24,9 @@ import warnings
 from collections.abc import Callable
 from typing import Any
 
-import camtol.analysis as analysis_module
-import camtol.validity as validity_module
-from camtol.config import example_names, load_example
+import camtol.analysis.result as analysis_module
+import camtol.analysis.validity as validity_module
+from camtol.config.design_file import example_names, load_example
 
 STAGES = ("checks", "grid engine", "other cams", "refinement", "extremes scan", "rest")
 

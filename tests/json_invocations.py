@@ -102,7 +102,7 @@ def prepare(tmp: str) -> dict[str, str]:
     import math
     from pathlib import Path
 
-    from camtol.cli import main
+    from camtol.cli.app import main
 
     lift = Path(tmp) / "lift.csv"
     rows = "\n".join(f"{t:g},{5 * (1 - math.cos(math.radians(t))):.6f}" for t in range(0, 360))
@@ -113,7 +113,7 @@ def prepare(tmp: str) -> dict[str, str]:
     assert main([*args, "--noise-um", "1", "--seed", "3", "--stylus-radius-mm", "1"]) == 0
     band = Path(tmp) / "band.csv"
     band.write_text("theta_deg,lower_um,upper_um\n0,-25,40\n180,-30,30\n")
-    from camtol.config import example_text
+    from camtol.config.design_file import example_text
 
     turning = Path(tmp) / "turning.toml"  # an oscillating follower with a cam speed
     raw = example_text("roller-oscillating").replace(

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import design_from_mapping, example_text, load_design
+from camtol.analysis.validity import check_design_geometry
+from camtol.cli.app import main
+from camtol.config.design_file import design_from_mapping, example_text, load_design
 from camtol.exceptions import GeometryError, OutputError, UndercutError
-from camtol.validity import check_design_geometry
 
 try:
     import tomllib
@@ -455,8 +455,8 @@ def test_geometry_error_names_cam_b() -> None:
 def test_program_size_is_bounded() -> None:
     import dataclasses
 
+    from camtol.design.motion import LiftTable
     from camtol.exceptions import DesignError
-    from camtol.motion import LiftTable
 
     d = design_from_mapping(tomllib.loads(example_text("roller-translating")))
     n = 100_001

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from camtol.cli import main
+from camtol.cli.app import main
 
 
 def test_analyze_example_prints_extremes(capsys: pytest.CaptureFixture[str]) -> None:
@@ -162,7 +162,7 @@ def test_core_import_is_light() -> None:
     import sys
 
     code = (
-        "import sys, camtol, camtol.analysis, camtol.config, camtol.cli;"
+        "import sys, camtol, camtol.analysis.result, camtol.config.design_file, camtol.cli.app;"
         "bad=[m for m in ('matplotlib','ezdxf','scipy','rich') if m in sys.modules];"
         "print(','.join(bad))"
     )
@@ -187,7 +187,7 @@ def test_outputs_get_ordinary_permissions(tmp_path: Path) -> None:
 def test_pressure_angle_limit_warns_once(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from camtol.config import example_text
+    from camtol.config.design_file import example_text
 
     text = example_text("roller-translating").replace(
         "pressure_angle_limit_deg = 30", "pressure_angle_limit_deg = 10"
@@ -264,13 +264,13 @@ def test_every_step_option_names_the_flag(
 
 def test_step_option_bounds_are_the_libraries() -> None:
     from camtol.grid import MAX_GRID_POINTS
-    from camtol.inspection.fixture import MAX_FIXTURE_POINTS
+    from camtol.pair.fixture import MAX_FIXTURE_POINTS
 
     assert {round(360 / f) for _, f in _STEP_COMMANDS} == {MAX_GRID_POINTS, MAX_FIXTURE_POINTS}
     # the sizing library refuses what `camtol size` refuses
-    from camtol.config import load_example
+    from camtol.analysis.sizing import minimum_base_radius
+    from camtol.config.design_file import load_example
     from camtol.exceptions import DesignError
-    from camtol.sizing import minimum_base_radius
 
     with pytest.raises(DesignError, match=r"step_deg=0.0005 .* between 0.001°"):
         minimum_base_radius(load_example("roller-oscillating"), step_deg=0.0005)
@@ -278,10 +278,10 @@ def test_step_option_bounds_are_the_libraries() -> None:
 
 def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
     # Before, Monte Carlo and max_radius_mm built 514 steps of 0.7004° for a 0.7° step.
-    from camtol.analysis import max_radius_mm
-    from camtol.config import load_example
+    from camtol.analysis.kinematics import analysis_grid
+    from camtol.analysis.result import max_radius_mm
+    from camtol.config.design_file import load_example
     from camtol.exceptions import DesignError
-    from camtol.kinematics import analysis_grid
     from camtol.tolerancing import monte_carlo
 
     design = load_example("roller-oscillating")
@@ -413,7 +413,7 @@ def test_derive_number_options_name_the_flag(
 def test_number_type_bounds_and_text() -> None:
     import click
 
-    from camtol.cli_options import Number
+    from camtol.cli.options import Number
 
     opt = click.Option(["--x"], type=Number(low=0, low_open=True, high=5, unit="mm"))
     assert opt.type.convert("5", opt, None) == 5.0

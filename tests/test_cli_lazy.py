@@ -15,11 +15,19 @@ from pathlib import Path
 import pytest
 
 import camtol
-from camtol.cli import LAZY_COMMANDS, cli, main
-from camtol.cli_commands import short_help as make_default_short_help
+from camtol.cli.app import LAZY_COMMANDS, cli, main
+from camtol.cli.commands import short_help as make_default_short_help
 
 SRC = str(Path(camtol.__file__).resolve().parent.parent)
-HEAVY = ["numpy", "scipy", "matplotlib", "pydantic", "rich", "camtol.analysis", "camtol.config"]
+HEAVY = [
+    "numpy",
+    "scipy",
+    "matplotlib",
+    "pydantic",
+    "rich",
+    "camtol.analysis.result",
+    "camtol.config.design_file",
+]
 
 
 def _modules_after(code: str) -> set[str]:
@@ -39,9 +47,9 @@ def _modules_after(code: str) -> set[str]:
     "code",
     [
         "import camtol",
-        "import camtol.cli",
-        "from camtol.cli import main\nmain(['--help'])",
-        "from camtol.cli import main\nmain(['examples'])",
+        "import camtol.cli.app",
+        "from camtol.cli.app import main\nmain(['--help'])",
+        "from camtol.cli.app import main\nmain(['examples'])",
     ],
 )
 def test_light_entry_points_import_no_heavy_module(code: str) -> None:
@@ -51,8 +59,8 @@ def test_light_entry_points_import_no_heavy_module(code: str) -> None:
 
 
 def test_public_names_resolve_lazily() -> None:
-    from camtol.analysis import analyse
-    from camtol.config import load_example
+    from camtol.analysis.result import analyse
+    from camtol.config.design_file import load_example
 
     assert camtol.analyse is analyse
     assert camtol.load_example is load_example

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from camtol.cli import main
-from camtol.cli_usage import BEGIN, END, usage_block
+from camtol.cli.app import main
+from camtol.cli.usage import BEGIN, END, usage_block
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -16,12 +16,12 @@ def test_readme_usage_block_matches_the_cli() -> None:
     text = README.read_text(encoding="utf-8")
     block = text[text.index(BEGIN) + len(BEGIN) : text.index(END)]
     assert block.strip() == f"```text\n{usage_block()}```", (
-        "README usage block is stale: run `python -m camtol.cli_usage --write README.md`"
+        "README usage block is stale: run `python -m camtol.cli.usage --write README.md`"
     )
 
 
 def test_usage_lists_every_command() -> None:
-    from camtol.cli import cli
+    from camtol.cli.app import cli
 
     block = usage_block()
     for name in cli.list_commands(None):  # type: ignore[arg-type]

@@ -9,15 +9,15 @@ from typing import Any
 
 import pytest
 
-from camtol.config import (
+from camtol.config.design_file import (
     design_from_mapping,
     example_names,
     example_text,
     load_design,
     load_example,
 )
+from camtol.design.motion import LiftTable
 from camtol.exceptions import ConfigError
-from camtol.motion import LiftTable
 from camtol.report.display import analysis_notes
 
 try:
@@ -98,7 +98,7 @@ def test_translating_lift_must_be_mm() -> None:
 
 
 def test_zero_offset_with_grade_asks_for_explicit_deviation() -> None:
-    from camtol.analysis import analyse
+    from camtol.analysis.result import analyse
 
     design = design_from_mapping(_with("follower.offset_mm", 0.0))
     with pytest.raises(ValueError, match=r"tolerances.e='IT6' cannot be applied.*e_um"):
@@ -172,7 +172,7 @@ def test_lift_table_precision_is_reported(tmp_path: Path, decimals: int, reliabl
     distorts the acceleration badly, 1e-6 mm matches theory)."""
     import numpy as np
 
-    from camtol.analysis import analyse
+    from camtol.analysis.result import analyse
 
     design = load_example("cw06-translating")
     t = np.arange(360.0)

@@ -12,7 +12,7 @@ from typing import Any
 
 import pytest
 
-from camtol.config import (
+from camtol.config.design_file import (
     MESSAGE_CHARS,
     VALUE_CHARS,
     design_from_mapping,

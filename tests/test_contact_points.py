@@ -1,4 +1,4 @@
-"""Contact points turned into the cam frame when first read (camtol.kinematics.ContactPoints)."""
+"""Contact points turned into the cam frame when first read (analysis.state.ContactPoints)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import warnings
 import numpy as np
 import pytest
 
-from camtol.analysis import analyse
-from camtol.config import example_names, load_example
-from camtol.engine import evaluate_engine
-from camtol.kinematics import ContactPoints, analysis_grid
+from camtol.analysis.engine import evaluate_engine
+from camtol.analysis.kinematics import ContactPoints, analysis_grid
+from camtol.analysis.result import analyse
+from camtol.config.design_file import example_names, load_example
 
 RNG = np.random.default_rng(11)
 

@@ -17,10 +17,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from camtol.config import design_from_mapping, dump_design, example_names, example_text
-from camtol.design import CamDesign
+from camtol.config.design_file import design_from_mapping, dump_design, example_names, example_text
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import MOTION_LAWS
 from camtol.exceptions import DesignError
-from camtol.motion import MOTION_LAWS
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -82,7 +82,8 @@ def test_hash_is_the_same_in_a_fresh_interpreter() -> None:
     """No dependence on hash randomisation or on state of this process."""
     here = design_from_mapping(tomllib.loads(example_text("cw11-conjugate"))).content_hash
     code = (
-        "from camtol.config import load_example;print(load_example('cw11-conjugate').content_hash)"
+        "from camtol.config.design_file import load_example;"
+        "print(load_example('cw11-conjugate').content_hash)"
     )
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, env=None

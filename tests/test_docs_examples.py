@@ -7,7 +7,7 @@ in a fresh temporary directory, the way a reader would follow it:
 - a fenced block with a ``title="NAME"`` (e.g. ```` ```toml title="my-cam.toml" ````) is
   written to the file NAME;
 - a ``console`` block runs each ``$ camtol ...`` line in-process
-  (:func:`camtol.cli.main`), with ``> FILE`` redirecting standard output to a file and a
+  (:func:`camtol.cli.app.main`), with ``> FILE`` redirecting standard output to a file and a
   trailing ``|| echo "exit status $?"`` meaning the command is expected to fail (the shown
   output then ends with that line). The exit status must be 0 otherwise. Every output
   line shown under a command must appear in what the command printed (whitespace
@@ -62,7 +62,7 @@ def _squash(text: str) -> str:
 
 def run_console(body: str, where: str) -> None:
     """Run the ``$ camtol`` lines of a console block and check the shown output."""
-    from camtol.cli import main
+    from camtol.cli.app import main
 
     commands: list[tuple[str, list[str]]] = []
     for line in body.splitlines():

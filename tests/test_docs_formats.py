@@ -19,8 +19,8 @@ from typing import Any
 
 import pytest
 
-from camtol.cli import main
-from camtol.config import example_names
+from camtol.cli.app import main
+from camtol.config.design_file import example_names
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "file-formats.md"
 
@@ -88,7 +88,8 @@ def test_analyze_outputs_are_documented(example: str, tmp_path: Path) -> None:
 
 
 def test_conjugate_outputs_are_documented(tmp_path: Path) -> None:
-    from camtol.inspection import simulate_record, write_indicator_csv
+    from camtol.pair.indicator import write_indicator_csv
+    from camtol.pair.twin import simulate_record
 
     record = tmp_path / "record.csv"
     write_indicator_csv(simulate_record(lambda t: 22.0 + 0.0 * t, revolutions=2), record)

@@ -10,15 +10,15 @@ import math
 import numpy as np
 import pytest
 
-import camtol.engine as engine_module
-from camtol.analysis import analyse
-from camtol.config import example_names, load_example
-from camtol.engine import evaluate_engine, shared_dwells
-from camtol.errors import error_analysis
-from camtol.extremes import find_extremes
+import camtol.analysis.engine as engine_module
+from camtol.analysis.engine import evaluate_engine, shared_dwells
+from camtol.analysis.errors import error_analysis
+from camtol.analysis.extremes import find_extremes
+from camtol.analysis.kinematics import analysis_grid, kinematics
+from camtol.analysis.result import analyse
+from camtol.config.design_file import example_names, load_example
+from camtol.design.motion import MotionState
 from camtol.jet import Jet
-from camtol.kinematics import analysis_grid, kinematics
-from camtol.motion import MotionState
 
 EXAMPLES = example_names()
 FIELDS = (
@@ -192,7 +192,7 @@ def test_extremes_at_kinks_smooth_peaks_and_jumps_to_step_over_1000() -> None:
 
 
 def test_max_radius_is_the_refined_radius_extreme() -> None:
-    from camtol.analysis import max_radius_mm
+    from camtol.analysis.result import max_radius_mm
 
     for name in ("cw06-translating", "roller-oscillating"):
         design = load_example(name)
@@ -203,11 +203,11 @@ def test_max_radius_is_the_refined_radius_extreme() -> None:
 
 @pytest.mark.parametrize("name", ["cw06-translating", "roller-oscillating"])
 def test_design_level_sources_go_through_the_engine(name: str) -> None:
-    from camtol.config import design_from_mapping, example_text
-    from camtol.examples import parse_toml
+    from camtol.config.design_file import design_from_mapping, example_text
+    from camtol.config.examples import parse_toml
 
     data = parse_toml(example_text(name), name)
-    data["tolerances"]["phase_deg"] = 0.01  # the cam's angular phase (camtol.sources)
+    data["tolerances"]["phase_deg"] = 0.01  # the cam's angular phase (camtol.design.sources)
     design = design_from_mapping(data)
     a = analyse(design, step_deg=1.0)
     k = a.kinematics
@@ -217,7 +217,7 @@ def test_design_level_sources_go_through_the_engine(name: str) -> None:
         np.testing.assert_allclose(
             a.errors.sources[key].delta_acceleration, src.delta_acceleration, atol=1e-12
         )
-    # ΔS_phase = −V·Δθ0 (camtol.sources)
+    # ΔS_phase = −V·Δθ0 (camtol.design.sources)
     np.testing.assert_allclose(
         a.errors.sources["phase"].delta_lift, -k.velocity * math.radians(0.01), atol=1e-15
     )
@@ -233,7 +233,7 @@ def test_overflow_is_named_by_the_extremes_search() -> None:
     """
     import dataclasses
 
-    from camtol.design import ToleranceSpec
+    from camtol.design.cam_design import ToleranceSpec
     from camtol.exceptions import DesignError
 
     d = load_example("cw06-translating")
@@ -345,8 +345,8 @@ def test_motion_only_geometry_is_the_frame_geometry_turned(name: str, label: str
 
 def test_scaled_extremes_swap_for_a_negative_factor_and_name_an_overflow() -> None:
     """One rule for a source's deviation (analysis) and a display unit (report)."""
+    from camtol.analysis.extremes import Extreme, scaled_extremes
     from camtol.exceptions import DesignError
-    from camtol.extremes import Extreme, scaled_extremes
 
     pair = (Extreme("q", "max", 2.0, 10.0), Extreme("q", "min", -1.0, 200.0))
     hi, lo = scaled_extremes(pair, -3.0, "Q")
@@ -386,8 +386,8 @@ def test_only_the_sources_asked_for_are_returned() -> None:
 def test_a_design_without_tolerances_reports_its_radial_factor() -> None:
     # cw11-experiment has no tolerances: analyse takes the values-only path. Its radial
     # factor must be the same as with a toleranced source (which takes the jets).
-    from camtol.config import design_from_mapping, example_text
-    from camtol.examples import parse_toml
+    from camtol.config.design_file import design_from_mapping, example_text
+    from camtol.config.examples import parse_toml
 
     bare = load_example("cw11-experiment")
     assert not bare.tolerances
@@ -405,8 +405,8 @@ def test_a_design_without_tolerances_reports_its_radial_factor() -> None:
 
 
 def test_design_level_sources_without_derivatives() -> None:
-    from camtol.config import design_from_mapping, example_text
-    from camtol.examples import parse_toml
+    from camtol.config.design_file import design_from_mapping, example_text
+    from camtol.config.examples import parse_toml
 
     data = parse_toml(example_text("roller-oscillating"), "roller-oscillating")
     data["tolerances"]["phase_deg"] = 0.01

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from camtol.analysis import analyse
-from camtol.config import load_example
-from camtol.design import ResolvedTolerance
-from camtol.errors import error_analysis
-from camtol.extremes import find_extremes
+from camtol.analysis.errors import error_analysis
+from camtol.analysis.extremes import find_extremes
+from camtol.analysis.result import analyse
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import ResolvedTolerance
 from camtol.report.display import display_analysis, display_curves
 
 
@@ -78,7 +78,7 @@ def test_unit_deviation_sensitivity_is_linear() -> None:
 
 
 def test_isolated_plateau_points_print_as_single_angles() -> None:
-    from camtol.extremes import Extreme
+    from camtol.analysis.extremes import Extreme
 
     e = Extreme("x", "min", 0.0, 139.8, ((139.8, 139.8), (143.0, 168.0)))
     assert e.where == "139.80°, 143.00-168.00°"
@@ -91,7 +91,7 @@ def test_isolated_plateau_points_print_as_single_angles() -> None:
 )
 def test_worst_case_and_rms_are_the_plain_sums_bit_for_bit(kinds: tuple[str, ...], n: int) -> None:
     """Σ|ΔS_p| and sqrt(Σ ΔS_p²) over array and constant sensitivities, in source order."""
-    from camtol.errors import _SUM_ROWS, ErrorAnalysis, SourceError
+    from camtol.analysis.errors import _SUM_ROWS, ErrorAnalysis, SourceError
 
     assert 257 < _SUM_ROWS < 80_003 // 2
     rng = np.random.default_rng(17)
@@ -133,7 +133,7 @@ def test_extremes_of_a_broadcast_constant_are_those_of_the_full_array() -> None:
 @pytest.mark.parametrize("shape", [(), (3, 4)])
 def test_worst_case_and_rms_of_other_shapes(shape: tuple[int, ...]) -> None:
     # A grid that is a scalar or a table is summed in one block, as a line is.
-    from camtol.errors import ErrorAnalysis, SourceError
+    from camtol.analysis.errors import ErrorAnalysis, SourceError
 
     s1 = np.random.default_rng(5).normal(size=shape)
     s2 = 2.0 * s1

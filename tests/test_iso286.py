@@ -551,7 +551,7 @@ def test_an_angle_through_radians_keeps_its_range(degrees: float) -> None:
 
 def test_computed_radius_on_a_limit_takes_the_range_it_closes() -> None:
     """A design's maximum radius of 50 mm, with noise, gives IT6 = 16 µm (30-50 mm)."""
-    from camtol.config import load_example
+    from camtol.config.design_file import load_example
 
     design = load_example("cw06-translating")  # r = "IT6"
     for radius in (50.0, 50.000000000000007, 49.99999999999999, 50.001):

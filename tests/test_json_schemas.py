@@ -18,7 +18,7 @@ import click
 import pytest
 
 from camtol import __version__
-from camtol.cli import cli, main
+from camtol.cli.app import cli, main
 from json_invocations import INVOCATIONS, prepare
 
 jsonschema = pytest.importorskip("jsonschema")
@@ -152,7 +152,7 @@ _EVERY_EXAMPLE = {  # cheap commands whose keys depend on the follower: every ex
 def test_every_example_matches_the_schema(command: str) -> None:
     # Keys carry units (um or deg) and a conjugate pair adds cam B's: the hand-picked
     # invocations missed four such outputs once; every built-in example covers them.
-    from camtol.config import example_names
+    from camtol.config.design_file import example_names
 
     schema = json.loads((SCHEMAS / f"{command}.schema.json").read_text(encoding="utf-8"))
     validator = jsonschema.Draft202012Validator(schema)

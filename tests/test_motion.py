@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from camtol.design.motion import MOTION_LAWS, LiftTable, Segment, SegmentProgram, normalized_law
 from camtol.exceptions import DesignError
-from camtol.motion import MOTION_LAWS, LiftTable, Segment, SegmentProgram, normalized_law
 
 RISE_LAWS = [n for n in MOTION_LAWS if n != "constant_velocity"]
 
@@ -102,7 +102,7 @@ def test_segment_index_by_comparisons_is_the_binary_search(monkeypatch: pytest.M
 
     Angles on every boundary with either limit, a NaN and random angles (issue 8).
     """
-    import camtol.motion as motion_module
+    import camtol.design.motion as motion_module
 
     p = _cw06()
     rng = np.random.default_rng(5)
@@ -139,8 +139,8 @@ def test_segment_runs_of_a_grid_in_order_are_the_segment_index(step_deg: float) 
     Analysis grids (each boundary twice, left limit first) and every slice of them the
     engine evaluates, with 360° wrapped to 0 (not in order: compared instead).
     """
+    from camtol.analysis.kinematics import analysis_grid
     from camtol.grid import ordered_segment_runs
-    from camtol.kinematics import analysis_grid
 
     r = math.radians
     programs = [
@@ -270,7 +270,7 @@ def test_random_program_is_continuous_in_lift_and_velocity(
 
 
 def test_table_resolution_detects_the_rounding_quantum() -> None:
-    from camtol.table_noise import table_resolution
+    from camtol.design.table_noise import table_resolution
 
     x = np.linspace(0, 22, 360)
     assert table_resolution(np.round(x, 3)) == pytest.approx(1e-3)
@@ -297,7 +297,7 @@ def test_lift_table_jerk_takes_left_limits_at_knots() -> None:
 )
 def test_polynomial_laws_equal_numpy_polyval_bit_for_bit(coefficients: tuple[float, ...]) -> None:
     """The in-place Horner rule gives numpy's Polynomial values, signed zeros included."""
-    from camtol.motion_laws import _polynomial
+    from camtol.design.laws import _polynomial
 
     x = np.concatenate([np.linspace(0.0, 1.0, 10_001), [-0.0, 0.0, 1.0]])
     p = np.polynomial.Polynomial(coefficients)

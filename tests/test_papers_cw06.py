@@ -12,9 +12,9 @@ import math
 
 import pytest
 
-from camtol.analysis import Analysis, analyse
-from camtol.config import load_example
-from camtol.extremes import Extreme
+from camtol.analysis.extremes import Extreme
+from camtol.analysis.result import Analysis, analyse
+from camtol.config.design_file import load_example
 from camtol.report.display import display_analysis, display_curves, display_extremes
 
 

@@ -17,12 +17,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.conjugate import conjugate_kinematics
-from camtol.inspection import conjugate_factors, conjugate_variation, inspect_conjugate
-from camtol.kinematics import analysis_grid
+from camtol.analysis.kinematics import analysis_grid
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
 from camtol.mechanisms.conjugate import ConjugatePair
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.kinematics import conjugate_kinematics
+from camtol.pair.variation import conjugate_factors, conjugate_variation
 
 
 @pytest.fixture(scope="module")
@@ -236,7 +237,7 @@ def test_cli_experiment_with_a_csv_record(
 
 
 def test_cli_conjugate_plot(tmp_path: Path) -> None:
-    from camtol.cli import main
+    from camtol.cli.app import main
 
     out = tmp_path / "fixture.png"
     assert main(["conjugate", "-e", "cw11-conjugate", "--plot", str(out), "-q"]) == 1
@@ -247,7 +248,7 @@ def test_cli_conjugate_plot(tmp_path: Path) -> None:
 
 
 def test_analyze_terminal_shows_both_cams(capsys: pytest.CaptureFixture[str]) -> None:
-    from camtol.cli import main
+    from camtol.cli.app import main
 
     assert main(["analyze", "-e", "cw11-conjugate", "--step", "0.5"]) == 0
     out = " ".join(capsys.readouterr().out.split())

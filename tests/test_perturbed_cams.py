@@ -14,13 +14,13 @@ import sys
 import numpy as np
 import pytest
 
-from camtol.config import example_names, load_example
-from camtol.design import Cam, CamDesign, ResolvedTolerance, ToleranceSpec
-from camtol.errors import error_analysis
+from camtol.analysis.errors import error_analysis
+from camtol.config.design_file import example_names, load_example
+from camtol.design.cam_design import Cam, CamDesign, ResolvedTolerance, ToleranceSpec
+from camtol.design.sources import DESIGN_SOURCES, AngularPhase, register_design_source
 from camtol.exceptions import DesignError
 from camtol.mechanisms import FlatOscillating, FlatTranslating, RollerOscillating, RollerTranslating
 from camtol.mechanisms.conjugate import ConjugateCamB, ConjugatePair
-from camtol.sources import DESIGN_SOURCES, AngularPhase, register_design_source
 from camtol.verify import verify
 
 PAIR = ConjugatePair(60.0, 16.0, 120.0, 66.0, 70.0, math.radians(100.0))
@@ -146,7 +146,7 @@ def test_phase_in_a_design_file_and_verify() -> None:
     else:  # pragma: no cover - Python 3.10
         import tomli as tomllib
 
-    from camtol.config import design_from_mapping, example_text
+    from camtol.config.design_file import design_from_mapping, example_text
 
     data = tomllib.loads(example_text("roller-translating"))
     data["tolerances"]["phase_deg"] = 0.05
@@ -180,7 +180,7 @@ def test_unknown_tolerance_key_lists_design_sources() -> None:
 
 def test_the_pair_is_not_a_single_cam() -> None:
     """ConjugatePair no longer stands for cam A: single-contact evaluation goes by cams()."""
-    from camtol.kinematics import kinematics
+    from camtol.analysis.kinematics import kinematics
 
     design = load_example("cw11-conjugate")
     theta = np.radians([10.0, 200.0])
@@ -197,8 +197,8 @@ def test_analyze_checks_every_cam() -> None:
     else:  # pragma: no cover - Python 3.10
         import tomli as tomllib
 
-    from camtol.analysis import analyze
-    from camtol.config import design_from_mapping, example_text
+    from camtol.analysis.result import analyze
+    from camtol.config.design_file import design_from_mapping, example_text
     from camtol.exceptions import GeometryError
 
     data = tomllib.loads(example_text("cw11-conjugate"))

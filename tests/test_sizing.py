@@ -9,18 +9,18 @@ import math
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.design import CamDesign
-from camtol.exceptions import DesignError
-from camtol.kinematics import analysis_grid
-from camtol.sizing import (
+from camtol.analysis.kinematics import analysis_grid
+from camtol.analysis.sizing import (
     _cam_kinematics,
     _pressure_angle_problem,
     _problems,
     minimum_base_radius,
 )
-from camtol.summary import cam_geometry
+from camtol.analysis.summary import cam_geometry
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import CamDesign
+from camtol.exceptions import DesignError
 
 
 def test_flat_translating_matches_closed_form() -> None:
@@ -85,7 +85,7 @@ def test_cutter_radius_limits_concave_stretches() -> None:
 
 def test_no_radius_cures_v_at_least_one() -> None:
     d = load_example("cw06-oscillating")
-    from camtol.motion import Segment, SegmentProgram
+    from camtol.design.motion import Segment, SegmentProgram
 
     fast = SegmentProgram(
         (
@@ -135,7 +135,7 @@ def test_analyze_failure_says_which_radius_works(
 ) -> None:
     from pathlib import Path
 
-    from camtol.config import example_text
+    from camtol.config.design_file import example_text
 
     p = Path(str(tmp_path)) / "small.toml"
     p.write_text(

@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from camtol.config import load_example
+from camtol.config.design_file import load_example
 
 try:
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
-from camtol.kinematics import analysis_grid, kinematics
-from camtol.summary import STANDARD_GRAVITY, cam_geometry, motion_peaks
+from camtol.analysis.kinematics import analysis_grid, kinematics
+from camtol.analysis.summary import STANDARD_GRAVITY, cam_geometry, motion_peaks
 
 
 def _kin(name: str, step: float = 0.1):  # type: ignore[no-untyped-def]
@@ -83,8 +83,8 @@ def test_a_pressure_angle_equal_to_its_limit_meets_it(face_deg: float) -> None:
     """
     import warnings
 
-    from camtol.analysis import analyze
-    from camtol.config import design_from_mapping, dump_design
+    from camtol.analysis.result import analyze
+    from camtol.config.design_file import design_from_mapping, dump_design
     from camtol.exceptions import PressureAngleWarning
     from camtol.report.qa import overall_verdict
     from camtol.report.tables import _rows

@@ -19,16 +19,22 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-from camtol.analysis import analyze
-from camtol.cli import main
-from camtol.config import design_from_mapping, dump_design, load_design
+from camtol.analysis.profile import profile_points
+from camtol.analysis.result import analyze
+from camtol.cli.app import main
+from camtol.config.design_file import design_from_mapping, dump_design, load_design
 from camtol.jet import FloatArray, JetLike
-from camtol.mechanisms.base import ContactGeometry, ErrorSource, OutputKind
+from camtol.mechanisms.base import (
+    FOLLOWER_TYPES,
+    ContactGeometry,
+    ErrorSource,
+    OutputKind,
+    register_follower,
+)
 from camtol.mechanisms.elements import RollerGuide
 from camtol.mechanisms.roller_common import RollerMechanism
 from camtol.mechanisms.roller_translating import RollerTranslating
-from camtol.mechanisms.spec import FOLLOWER_TYPES, Parameter, length, register_follower
-from camtol.profile import profile_points
+from camtol.mechanisms.spec import Parameter, length
 from camtol.verify import verify
 
 if sys.version_info >= (3, 11):

@@ -8,12 +8,12 @@ import math
 
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.design import CamDesign, ToleranceSpec
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import CamDesign, ToleranceSpec
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.mechanisms import RollerOscillating, RollerTranslating
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import Segment, SegmentProgram
 from camtol.verify import ROUNDTRIP_LIMIT, verify
 
 
@@ -131,7 +131,7 @@ def test_normal_error_source_is_checked() -> None:
 
 
 def _example_names() -> list[str]:
-    from camtol.config import example_names
+    from camtol.config.design_file import example_names
 
     return example_names()
 
@@ -149,8 +149,8 @@ def test_polyline_check_on_a_lift_table_design(tmp_path) -> None:  # type: ignor
     is then below the mid-chord sag prediction, which must not count as a failure."""
     import numpy as np
 
-    from camtol.config import load_example
-    from camtol.motion import LiftTable
+    from camtol.config.design_file import load_example
+    from camtol.design.motion import LiftTable
     from camtol.verify import verify as run_verify
 
     base = load_example("cw06-translating")
@@ -168,10 +168,10 @@ def test_polyline_check_in_a_concave_stretch() -> None:
 
     import numpy as np
 
-    from camtol.design import CamDesign
-    from camtol.kinematics import kinematics
+    from camtol.analysis.kinematics import kinematics
+    from camtol.design.cam_design import CamDesign
+    from camtol.design.motion import Segment, SegmentProgram
     from camtol.mechanisms import MECHANISMS
-    from camtol.motion import Segment, SegmentProgram
     from camtol.verify import verify as run_verify
 
     r = math.radians

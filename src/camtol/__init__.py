@@ -14,6 +14,8 @@ from __future__ import annotations
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
+from camtol import _compat
+from camtol._version import __version__
 from camtol.exceptions import (
     CamtolError,
     ConfigError,
@@ -22,24 +24,24 @@ from camtol.exceptions import (
     UndercutError,
 )
 
-__version__ = "0.1.0"
+_compat.install()  # modules moved in 0.2 still import by their old names, with a warning
 
 if TYPE_CHECKING:  # pragma: no cover - what the lazy names resolve to, for type checkers
-    from camtol.analysis import Analysis, analyse, analyze
-    from camtol.config import load_design, load_example
-    from camtol.design import CamDesign, ToleranceSpec
-    from camtol.examples import example_names
+    from camtol.analysis.result import Analysis, analyse, analyze
+    from camtol.config.design_file import load_design, load_example
+    from camtol.config.examples import example_names
+    from camtol.design.cam_design import CamDesign, ToleranceSpec
 
 #: Public name -> module that defines it (imported on first attribute access).
 _LAZY = {
-    "Analysis": "camtol.analysis",
-    "analyse": "camtol.analysis",
-    "analyze": "camtol.analysis",
-    "CamDesign": "camtol.design",
-    "ToleranceSpec": "camtol.design",
-    "example_names": "camtol.examples",
-    "load_design": "camtol.config",
-    "load_example": "camtol.config",
+    "Analysis": "camtol.analysis.result",
+    "analyse": "camtol.analysis.result",
+    "analyze": "camtol.analysis.result",
+    "CamDesign": "camtol.design.cam_design",
+    "ToleranceSpec": "camtol.design.cam_design",
+    "example_names": "camtol.config.examples",
+    "load_design": "camtol.config.design_file",
+    "load_example": "camtol.config.design_file",
 }
 
 __all__ = [

@@ -2,6 +2,6 @@
 
 import sys
 
-from camtol.cli import main
+from camtol.cli.app import main
 
 sys.exit(main())

@@ -1,7 +1,7 @@
 """Export a design's profile for CAD/CAM in one call: sample (core), then write (report).
 
 :func:`write_profile` is the convenience the command line (``camtol profile -o``) and
-callers use. It composes :func:`camtol.profile.profile_points` (the adaptive sampling
+callers use. It composes :func:`camtol.analysis.profile.profile_points` (the adaptive sampling
 within a chordal tolerance, with its verification) and
 :func:`camtol.report.export.write_profile_points` (CSV, DXF, SVG), so that the report
 layer only formats results it is given.
@@ -11,9 +11,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from camtol.design import CamDesign
+from camtol.analysis.profile import (
+    DEFAULT_TOLERANCE_MM,
+    ProfilePoints,
+    profile_points,
+    profile_table,
+)
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import ExportError
-from camtol.profile import DEFAULT_TOLERANCE_MM, ProfilePoints, profile_points, profile_table
 from camtol.report.export import export_format, write_profile_points
 
 __all__ = ["write_profile"]

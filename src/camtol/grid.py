@@ -163,9 +163,9 @@ def ordered_segment_runs(
 
     The rows of segment ``k`` are those with ``starts[k] <= θ < starts[k + 1]``, except
     that a left-limit row lying on a start belongs to the segment that ends there (the
-    last one for the first start), as :meth:`camtol.motion.SegmentProgram.segment_index`
+    last one for the first start), as :meth:`camtol.design.motion.SegmentProgram.segment_index`
     assigns them. On a non-decreasing grid whose left-limit rows at a start come before
-    its other rows there (as :func:`camtol.kinematics.analysis_grid` builds them), each
+    its other rows there (as :func:`camtol.analysis.kinematics.analysis_grid` builds them), each
     segment is one run, found by a search per start instead of a comparison per row
     and start.
 

@@ -10,13 +10,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from camtol.analysis import Analysis, analyze
-from camtol.design import CamDesign
-from camtol.drawing import CamDrawing, analysis_drawing
+from camtol.analysis.drawing import CamDrawing, analysis_drawing
+from camtol.analysis.result import Analysis, analyze
+from camtol.design.cam_design import CamDesign
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.fixture_spec import fixture_spec
+from camtol.pair.kinematics import is_pair
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.inspection.fixture import FixtureInspection
-    from camtol.inspection.spec import FixtureSpec
+    from camtol.pair.fixture import FixtureInspection
+    from camtol.pair.fixture_spec import FixtureSpec
 
 __all__ = ["Study", "study"]
 
@@ -28,7 +31,7 @@ class Study:
     Attributes
     ----------
     analysis : Analysis
-        From :func:`camtol.analysis.analyze`.
+        From :func:`camtol.analysis.result.analyze`.
     drawing : CamDrawing
         The cams and follower where the worst-case error is largest.
     fixture : FixtureInspection or None
@@ -67,9 +70,8 @@ def study(design_or_analysis: CamDesign | Analysis) -> Study:
         else analyze(design_or_analysis)
     )
     design = a.design
-    spec = design.inspection
-    if len(design.cams()) < 2 or spec is None:
+    spec = fixture_spec(design)
+    if spec is None or not is_pair(design):
         return Study(a, analysis_drawing(a))
-    from camtol.inspection.fixture import inspect_conjugate
 
     return Study(a, analysis_drawing(a), inspect_conjugate(design, spec), spec)

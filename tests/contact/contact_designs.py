@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.mechanisms import FlatOscillating, FlatTranslating, RollerOscillating, RollerTranslating
 from camtol.mechanisms.conjugate import ConjugatePair
-from camtol.motion import Segment, SegmentProgram
 
 r = math.radians
 

@@ -7,15 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from camtol.config import load_example
+from camtol.analysis.kinematics import analysis_grid
+from camtol.config.design_file import load_example
 from camtol.contact.engine import follow
 from camtol.contact.errors_profile import CallableError, FourierError
-from camtol.contact.fixture import Fixture, simulate_fixture
 from camtol.contact.shapes import AnalyticShape
 from camtol.exceptions import GeometryError
-from camtol.inspection import FixtureErrors, conjugate_factors, conjugate_variation
-from camtol.kinematics import analysis_grid
 from camtol.mechanisms.conjugate import ConjugatePair
+from camtol.pair.contact_fixture import Fixture, simulate_fixture
+from camtol.pair.fixture_spec import FixtureErrors
+from camtol.pair.variation import conjugate_factors, conjugate_variation
 
 
 @pytest.fixture(scope="module")
@@ -176,7 +177,7 @@ def test_mixed_shapes_are_rejected(cw11: tuple) -> None:
     "law", ["simple_harmonic", "polynomial_345", "polynomial_4567", "modified_trapezoid"]
 )
 def test_fixture_roundtrip_every_law(law: str) -> None:
-    from camtol.motion import Segment, SegmentProgram
+    from camtol.design.motion import Segment, SegmentProgram
 
     r = math.radians
     prog = SegmentProgram(

@@ -12,13 +12,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
+from camtol.analysis.kinematics import analysis_grid, kinematics
 from camtol.contact.engine import follow
 from camtol.contact.errors_profile import FourierError
 from camtol.contact.flat import follow_flat_oscillating, follow_flat_translating
 from camtol.contact.shapes import AnalyticShape, PolygonShape
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import GeometryError
-from camtol.kinematics import analysis_grid, kinematics
 from camtol.mechanisms import FlatOscillating, FlatTranslating
 
 LAWS = ["cycloidal", "simple_harmonic", "polynomial_345", "polynomial_4567", "modified_sine",
@@ -212,7 +212,7 @@ def test_no_warnings_on_the_grid() -> None:
 def test_roundtrip_lift_table_program() -> None:
     # A lift table (THEORY §1: every 2°, periodic spline): the contact engine follows the
     # spline's profile exactly.
-    from camtol.motion import LiftTable
+    from camtol.design.motion import LiftTable
 
     t = np.radians(np.arange(0.0, 360.0, 2.0))
     lift = 6.0 * (1 - np.cos(t)) / 2 + 0.8 * np.sin(2 * t) ** 2

@@ -17,17 +17,17 @@ from contact_designs import (
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from camtol.analysis.kinematics import analysis_grid, kinematics
 from camtol.contact.engine import follow
 from camtol.contact.errors_profile import FourierError
 from camtol.contact.roller_path import roller_path
 from camtol.contact.roller_polygon import _features, solve_polygon
 from camtol.contact.shapes import AnalyticShape, PolygonShape
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import SegmentProgram
 from camtol.exceptions import DesignError, GeometryError
-from camtol.kinematics import analysis_grid, kinematics
 from camtol.mechanisms import FlatTranslating, RollerOscillating, RollerTranslating
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import SegmentProgram
 
 
 def roundtrip(mech: Mechanism, prog: SegmentProgram, step: float = 0.25) -> np.ndarray:

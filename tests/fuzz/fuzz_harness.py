@@ -8,7 +8,7 @@ The property every run must satisfy (issue 9):
 * exit 1 only for a failed part (``conjugate``/``verify``);
 * exit 2 with exactly ONE ``camtol: error:`` line of bounded length;
 * never a traceback, never a "numerical failure" (the safety net of
-  :func:`camtol.cli.run_guarded` must not be what catches a bad value).
+  :func:`camtol.cli.app.run_guarded` must not be what catches a bad value).
 
 The outputs are checked independently of camtol's own computations (shapely for
 self-intersection, finite differences of the exported points for cusps and pressure
@@ -32,8 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from camtol.cli import main
-from camtol.config import example_names, example_text
+from camtol.cli.app import main
+from camtol.config.design_file import example_names, example_text
 
 try:
     import tomllib

@@ -15,14 +15,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import design_from_mapping, example_text, load_design, load_example
+from camtol.cli.app import main
+from camtol.config.design_file import design_from_mapping, example_text, load_design, load_example
+from camtol.config.inspection_table import fixture_spec_from_mapping
 from camtol.exceptions import ConfigError, DesignError, InputFileError
-from camtol.inspection import ErrorFunction, FixtureErrors, FixtureSpec
+from camtol.inspection import ErrorFunction
 from camtol.inspection.error_functions import parse_error_function
 from camtol.inspection.formula import MAX_FORMULA_CHARS, Formula
-from camtol.inspection.spec import fixture_spec_from_mapping
 from camtol.inspection.units import MAX_ERROR_UM, parse_length_um
+from camtol.pair.fixture_spec import FixtureErrors, FixtureSpec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -214,7 +215,9 @@ def test_cli_conjugate_step_uses_the_grid_rule(
 
 
 def test_python_step_uses_the_grid_rule() -> None:
-    from camtol.inspection import inspect_conjugate, process_record, simulate_record
+    from camtol.pair.fixture import inspect_conjugate
+    from camtol.pair.indicator import process_record
+    from camtol.pair.twin import simulate_record
 
     d = load_example("cw11-conjugate")
     for bad in (0.0, math.nan, 1e-9, 1e-300, 0.7):
@@ -225,7 +228,7 @@ def test_python_step_uses_the_grid_rule() -> None:
 
 
 def test_inspect_conjugate_uses_the_designs_spec() -> None:
-    from camtol.inspection import inspect_conjugate
+    from camtol.pair.fixture import inspect_conjugate
 
     d = load_example("cw11-conjugate")
     assert d.inspection is not None

@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from camtol.config import load_example
+from camtol.config.design_file import load_example
 from camtol.contact import AnalyticShape, FourierError
 from camtol.exceptions import DesignError
 from camtol.inspection.cmm import Scan, compensate_stylus, local_normals
@@ -427,14 +427,14 @@ def test_a_stylus_ball_larger_than_a_concave_radius_is_refused(tmp_path) -> None
     # A small translating-roller cam with a concave flank: a probe ball larger than its
     # concave radius bridges the hollow, so neither a simulated scan nor the compensation
     # of a measured one can hold; a ball that fits is accepted by both.
-    from camtol.design import CamDesign
+    from camtol.design.cam_design import CamDesign
+    from camtol.design.motion import Segment, SegmentProgram
     from camtol.exceptions import GeometryError
     from camtol.inspection.cmm import read_scan
     from camtol.inspection.deviations import check_stylus
     from camtol.inspection.twin import scan_csv_text
-    from camtol.manufacturing.toolpath import smallest_concave_radius
+    from camtol.analysis.offset import smallest_concave_radius
     from camtol.mechanisms import RollerTranslating
-    from camtol.motion import Segment, SegmentProgram
 
     r = math.radians
     program = SegmentProgram(

@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.inspection import acceptance_bands, conjugate_factors
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.pair.acceptance import acceptance_bands
+from camtol.pair.variation import conjugate_factors
 
 
 def _run(capsys, *args: str) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
@@ -439,7 +440,7 @@ def test_motion_spec_bad_input(
 def test_cmm_fixture_figure_shows_the_table4_differences() -> None:
     # The figure of conjugate --cmm-plot: Δf_mea, the twin and Δf_est, and below their
     # differences from Δf_mea with the rms of [CW11] Table 4 in the legend.
-    from camtol.inspection import CmmFixtureComparison
+    from camtol.pair.cmm_fixture import CmmFixtureComparison
     from camtol.report.inspection_plots import cmm_fixture_figure
 
     t = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)

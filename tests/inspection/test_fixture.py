@@ -10,24 +10,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camtol.design import CamDesign
+from camtol.config.inspection_table import fixture_spec_from_mapping
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import DesignError, InputFileError
-from camtol.inspection import (
-    ErrorFunction,
-    FixtureErrors,
-    FixtureSpec,
-    acceptance_bands,
-    conjugate_factors,
-    conjugate_variation,
-    inspect_conjugate,
-    inverse_estimate,
-)
-from camtol.inspection.acceptance import failing_intervals
+from camtol.inspection import ErrorFunction
 from camtol.inspection.error_functions import parse_error_function
-from camtol.inspection.spec import fixture_spec_from_mapping
 from camtol.inspection.units import parse_length_um
 from camtol.mechanisms.conjugate import ConjugatePair
-from camtol.motion import Segment, SegmentProgram
+from camtol.pair.acceptance import acceptance_bands, failing_intervals
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.fixture_spec import FixtureErrors, FixtureSpec
+from camtol.pair.variation import conjugate_factors, conjugate_variation, inverse_estimate
 
 r = math.radians
 PROGRAM = SegmentProgram(
@@ -261,7 +255,7 @@ def test_needs_conjugate_design_and_valid_step() -> None:
 
 def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
     """Extremes use the shared finder: located to step/1000, constants as 0-360°."""
-    from camtol.config import load_example
+    from camtol.config.design_file import load_example
 
     design = load_example("cw11-conjugate")
     spec = design.inspection
@@ -277,7 +271,7 @@ def test_fixture_extremes_are_refined_and_plateaus_are_ranges() -> None:
 
 
 def test_merge_intervals_joins_short_gaps_only() -> None:
-    from camtol.inspection.acceptance import merge_intervals
+    from camtol.pair.acceptance import merge_intervals
 
     slivers = [(80.5, 80.51), (80.62, 80.72), (81.0, 133.9), (134.2, 135.0), (221.95, 248.5)]
     assert merge_intervals(slivers, 1.0) == [(80.5, 135.0), (221.95, 248.5)]
@@ -288,7 +282,7 @@ def test_merge_intervals_joins_short_gaps_only() -> None:
 def test_json_has_exact_intervals_and_stretches(capsys: pytest.CaptureFixture[str]) -> None:
     import json
 
-    from camtol.cli import main
+    from camtol.cli.app import main
 
     assert main(["conjugate", "-e", "cw11-conjugate", "--json", "--step", "0.5"]) == 1
     verdict = json.loads(capsys.readouterr().out)["verdicts"]["A"]

@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from camtol.exceptions import RecordError
-from camtol.inspection.lots import deviation_on_grid, lot_statistics, resample_periodic
+from camtol.records.lots import deviation_on_grid, lot_statistics, resample_periodic
 
 
 def _lot(rng: np.random.Generator, n_parts: int = 12, n: int = 360) -> np.ndarray:

@@ -14,14 +14,11 @@ import json
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.inspection import (
-    ErrorFunction,
-    conjugate_factors,
-    conjugate_variation,
-    inspect_conjugate,
-)
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.inspection import ErrorFunction
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.variation import conjugate_factors, conjugate_variation
 
 
 def test_prediction_is_the_forward_variation_of_the_known_errors() -> None:

@@ -26,20 +26,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
 from camtol.exceptions import DesignError, InputFileError
-from camtol.inspection import (
-    ErrorFunction,
+from camtol.inspection import ErrorFunction
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.indicator import (
     IndicatorRecord,
-    inspect_conjugate,
     process_record,
     read_indicator_csv,
     record_estimates,
-    simulate_record,
+    to_error_function,
     write_indicator_csv,
 )
-from camtol.inspection.record import to_error_function
+from camtol.pair.twin import simulate_record
 
 SIGMA = 0.5  # µm
 

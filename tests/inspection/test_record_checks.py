@@ -16,16 +16,16 @@ import numpy as np
 import pytest
 
 import camtol.tables
-from camtol.cli import main
+from camtol.cli.app import main
 from camtol.exceptions import InputFileError
-from camtol.inspection import (
+from camtol.pair.indicator import (
+    REVOLUTION_RATIO,
     IndicatorRecord,
     process_record,
     read_indicator_csv,
-    simulate_record,
     write_indicator_csv,
 )
-from camtol.inspection.record import REVOLUTION_RATIO
+from camtol.pair.twin import simulate_record
 
 
 def truth(theta: np.ndarray) -> np.ndarray:

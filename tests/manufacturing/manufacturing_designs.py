@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from camtol.config import design_from_mapping
-from camtol.design import CamDesign
+from camtol.config.design_file import design_from_mapping
+from camtol.design.cam_design import CamDesign
 
 
 def concave_roller_design() -> CamDesign:

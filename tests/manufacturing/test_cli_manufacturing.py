@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
+from camtol.cli.app import main
 from camtol.manufacturing.gcode import path_deviation, read_gcode
 
 PRECISION_KEYS = {
@@ -102,13 +102,14 @@ def test_derive(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_tool_radius_bound_of_the_command_line_is_the_librarys() -> None:
     # The command line writes the bound out (its --help loads no numpy).
-    from camtol import cli_options, profile
+    from camtol.analysis import profile
+    from camtol.cli import options as cli_options
 
     assert cli_options.MAX_TOOL_RADIUS_MM == profile.MAX_TOOL_RADIUS_MM
 
 
 def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from camtol.config import load_example
+    from camtol.config.design_file import load_example
 
     out = tmp_path / "cam.nc"
     args = ["profile", "-e", "cw06-translating", "-o", str(out), "--cutter-radius", "4"]

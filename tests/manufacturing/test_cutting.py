@@ -9,7 +9,7 @@ import pytest
 from manufacturing_designs import concave_roller_design
 from numpy.testing import assert_allclose
 
-from camtol.config import example_names, load_example
+from camtol.config.design_file import example_names, load_example
 from camtol.exceptions import DesignError, GeometryError, UndercutError
 from camtol.manufacturing.cutting import coarsest_cut_step, cut_cam, simulate_cut
 from camtol.manufacturing.toolpath import single_cams

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+from camtol.design.motion import LiftTable
 from camtol.exceptions import DesignError, InputFileError
 from camtol.manufacturing.derivatives import derive_lift
-from camtol.motion import LiftTable
 
 E_MM = 5.0
 THETA_DEG = np.arange(0.0, 360.0, 1.0)

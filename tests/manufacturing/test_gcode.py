@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from manufacturing_designs import concave_roller_design
 
-from camtol.config import load_example
+from camtol.config.design_file import load_example
 from camtol.exceptions import DesignError, UndercutError
 from camtol.manufacturing.gcode import GcodePath, path_deviation, read_gcode, write_gcode
 from camtol.manufacturing.toolpath import single_cams

@@ -8,9 +8,9 @@ import numpy as np
 import sympy as sp
 from numpy.testing import assert_allclose
 
-from camtol.config import load_example
+from camtol.analysis.kinematics import kinematics
+from camtol.config.design_file import load_example
 from camtol.contact import PolygonShape, follow
-from camtol.kinematics import kinematics
 
 R_MM, R0_MM = 30.0, 25.0
 E_MM = R_MM - R0_MM

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from camtol.analysis import analyse
-from camtol.config import design_from_mapping, load_example
+from camtol.analysis.result import analyse
+from camtol.config.design_file import design_from_mapping, load_example
+from camtol.design.motion import LiftTable
+from camtol.design.table_noise import spline_acceleration_gain, spline_acceleration_response
 from camtol.exceptions import DesignError
 from camtol.manufacturing.precision import table_precision
-from camtol.motion import LiftTable
 from camtol.report.display import analysis_notes
-from camtol.table_noise import spline_acceleration_gain, spline_acceleration_response
 
 E_MM = 5.0
 

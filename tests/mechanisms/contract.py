@@ -31,16 +31,16 @@ import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from camtol.analysis.kinematics import kinematics, to_jet
 from camtol.contact.engine import follow
 from camtol.contact.errors_profile import FourierError
 from camtol.contact.shapes import AnalyticShape
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
+from camtol.design.sources import DESIGN_SOURCES
 from camtol.exceptions import GeometryError
 from camtol.jet import Jet
 from camtol.jet import value as jet_value
-from camtol.kinematics import kinematics, to_jet
 from camtol.mechanisms.base import Mechanism
-from camtol.sources import DESIGN_SOURCES
 
 FArr = np.ndarray[Any, np.dtype[np.float64]]
 # Each subclass draws from its own class-level strategy, so running the inherited test

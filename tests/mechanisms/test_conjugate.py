@@ -18,19 +18,19 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from test_roller_oscillating import OscillatingRollerContract
 
-from camtol.conjugate import cam_design, conjugate_kinematics
-from camtol.design import CamDesign
+from camtol.analysis.kinematics import kinematics
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import DesignError, GeometryError
-from camtol.inspection.fixture import (
+from camtol.mechanisms.conjugate import ConjugateCamB, ConjugatePair
+from camtol.mechanisms.roller_oscillating import RollerOscillating
+from camtol.pair.fixture import (
     ErrorFunction,
     FixtureErrors,
     conjugate_factors,
     conjugate_variation,
 )
-from camtol.kinematics import kinematics
-from camtol.mechanisms.conjugate import ConjugateCamB, ConjugatePair
-from camtol.mechanisms.roller_oscillating import RollerOscillating
-from camtol.motion import Segment, SegmentProgram
+from camtol.pair.kinematics import cam_design, conjugate_kinematics
 
 r = math.radians
 

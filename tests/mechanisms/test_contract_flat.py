@@ -12,9 +12,9 @@ import numpy as np
 from contract import Element, FArr, MechanismContract
 from hypothesis import strategies as st
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.mechanisms import FlatOscillating, FlatTranslating
-from camtol.motion import Segment, SegmentProgram
 
 
 def program(h: float, rise: float = 120.0, dwell: float = 60.0) -> SegmentProgram:

@@ -16,13 +16,13 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from camtol import jet
-from camtol.design import CamDesign, ResolvedTolerance
-from camtol.errors import error_analysis
+from camtol.analysis.errors import error_analysis
+from camtol.analysis.kinematics import kinematics, to_jet
+from camtol.design.cam_design import CamDesign, ResolvedTolerance
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import DesignError, GeometryError, UndercutError
 from camtol.jet import Jet
-from camtol.kinematics import kinematics, to_jet
 from camtol.mechanisms import FlatOscillating, FlatTranslating
-from camtol.motion import Segment, SegmentProgram
 
 
 def _program(

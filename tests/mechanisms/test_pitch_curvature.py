@@ -12,8 +12,8 @@ import warnings
 import numpy as np
 import pytest
 
-from camtol.config import example_names, load_example
-from camtol.kinematics import analysis_grid, contact_jets
+from camtol.analysis.kinematics import analysis_grid, contact_jets
+from camtol.config.design_file import example_names, load_example
 
 ROLLER_CAMS = [
     (name, cam.label)

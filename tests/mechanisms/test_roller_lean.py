@@ -16,12 +16,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from camtol import jet
-from camtol.config import example_names, load_example
+from camtol.config.design_file import example_names, load_example
+from camtol.design.motion import MotionProgram, Segment, SegmentProgram
 from camtol.jet import Jet
 from camtol.mechanisms.base import Mechanism
 from camtol.mechanisms.roller_oscillating import RollerOscillating
 from camtol.mechanisms.roller_translating import RollerTranslating
-from camtol.motion import MotionProgram, Segment, SegmentProgram
 
 THETA = np.radians(np.linspace(0.0, 359.5, 720))
 

@@ -10,11 +10,11 @@ import pytest
 from contract import Element, FArr, MechanismContract
 from hypothesis import strategies as st
 
-from camtol.design import CamDesign
+from camtol.analysis.kinematics import kinematics
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import DesignError, GeometryError, UndercutError
-from camtol.kinematics import kinematics
 from camtol.mechanisms import MECHANISMS, RollerOscillating
-from camtol.motion import Segment, SegmentProgram
 
 
 def program(h_deg: float, rise: float = 120.0, dwell: float = 40.0) -> SegmentProgram:
@@ -138,8 +138,8 @@ def test_arm_that_cannot_reach_the_prime_circle() -> None:
 
 
 def test_design_file_schema_and_analysis() -> None:
-    from camtol.analysis import analyse
-    from camtol.config import design_from_mapping
+    from camtol.analysis.result import analyse
+    from camtol.config.design_file import design_from_mapping
     from camtol.exceptions import ConfigError
 
     base = {

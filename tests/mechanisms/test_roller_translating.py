@@ -10,11 +10,11 @@ import pytest
 from contract import Element, FArr, MechanismContract
 from hypothesis import strategies as st
 
-from camtol.design import CamDesign
+from camtol.analysis.kinematics import kinematics
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import DesignError, PressureAngleWarning, UndercutError
-from camtol.kinematics import kinematics
 from camtol.mechanisms import MECHANISMS, RollerTranslating
-from camtol.motion import Segment, SegmentProgram
 
 
 def program(h: float, rise: float = 120.0, dwell: float = 60.0) -> SegmentProgram:
@@ -123,8 +123,8 @@ def test_bad_dimensions_name_the_field(kwargs: dict[str, float], field: str) -> 
 
 
 def test_design_file_schema_and_analysis() -> None:
-    from camtol.analysis import analyse
-    from camtol.config import design_from_mapping
+    from camtol.analysis.result import analyse
+    from camtol.config.design_file import design_from_mapping
 
     d = design_from_mapping(
         {

@@ -1,4 +1,4 @@
-"""Internal units in :mod:`camtol.analysis`, display units in :mod:`camtol.report.display`.
+"""Internal units in :mod:`camtol.analysis.result`, display units in :mod:`camtol.report.display`.
 
 Issue 8 ("results in internal units with unit-suffixed names; display conversion in
 report"): the analysis knows mm, rad and per-radian derivatives only (THEORY §0); the
@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import camtol.analysis
-from camtol.analysis import Analysis, analyse
-from camtol.config import load_example
-from camtol.design import ToleranceSpec
+import camtol.analysis.result
+from camtol.analysis.result import Analysis, analyse
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import ToleranceSpec
 from camtol.report.display import (
     DisplayUnit,
     DisplayUnits,
@@ -132,9 +132,9 @@ def test_display_curves_are_the_internal_curves_times_the_factor() -> None:
 
 
 def test_the_analysis_module_holds_no_display_conversion() -> None:
-    assert not hasattr(camtol.analysis, "DisplayUnits")
+    assert not hasattr(camtol.analysis.result, "DisplayUnits")
     assert not hasattr(Analysis, "error_unit")
-    tree = ast.parse(Path(camtol.analysis.__file__).read_text(encoding="utf-8"))
+    tree = ast.parse(Path(camtol.analysis.result.__file__).read_text(encoding="utf-8"))
     # no display unit keys (um, deg, per s) among the module's strings
     strings = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant)}
     shown = {s for s in strings if isinstance(s, str) and s.startswith(("um", "deg", "/s"))}

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from camtol import __version__
-from camtol.cli import main
-from camtol.config import load_design, load_example
+from camtol.cli.app import main
+from camtol.config.design_file import load_design, load_example
 from camtol.export import write_profile
 from camtol.report.export import ExportError
 

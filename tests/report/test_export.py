@@ -13,15 +13,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from camtol.cli import main
-from camtol.config import example_names, load_example
-from camtol.design import CamDesign
+from camtol.analysis.kinematics import analysis_grid, kinematics
+from camtol.analysis.profile import profile_points
+from camtol.cli.app import main
+from camtol.config.design_file import example_names, load_example
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import Segment, SegmentProgram
 from camtol.exceptions import UndercutError
 from camtol.export import write_profile
-from camtol.kinematics import analysis_grid, kinematics
 from camtol.mechanisms import FlatTranslating, RollerOscillating, RollerTranslating
-from camtol.motion import Segment, SegmentProgram
-from camtol.profile import profile_points
 from camtol.report.drawing_marks import MARK_COLOURS
 from camtol.report.export import EXPORT_SUFFIXES, ExportError
 
@@ -58,7 +58,7 @@ def analytic_curves(design: CamDesign) -> dict[str, np.ndarray]:
 def _analytic_curves(design: CamDesign) -> dict[str, np.ndarray]:
     theta, left = analysis_grid(DENSE_STEP_DEG, design.program.boundaries_rad)
     if design.mechanism.kind == "conjugate":
-        from camtol.conjugate import conjugate_kinematics
+        from camtol.pair.kinematics import conjugate_kinematics
 
         k = conjugate_kinematics(design, theta, left_limit=left, check=False)
         return {
@@ -385,7 +385,7 @@ def test_adaptive_sampling_holds_on_random_flat_designs(
 
 def test_report_writer_only_writes_what_it_is_given(tmp_path: Path) -> None:
     """The report layer writes sampled points; a CSV needs the table the core computed."""
-    from camtol.profile import profile_table
+    from camtol.analysis.profile import profile_table
     from camtol.report.export import write_profile_points
 
     design = load_example("cw06-translating")

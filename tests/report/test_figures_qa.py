@@ -19,15 +19,15 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from camtol import __version__
-from camtol.analysis import Analysis, analyse
-from camtol.config import example_names, load_example
-from camtol.drawing import analysis_drawing, cam_drawing
-from camtol.inspection import inspect_conjugate
-from camtol.inspection.record import process_record, record_estimates, to_error_function
-from camtol.inspection.simulate import simulate_record
+from camtol.analysis.drawing import analysis_drawing, cam_drawing
+from camtol.analysis.result import Analysis, analyse
+from camtol.analysis.summary import motion_peaks
+from camtol.config.design_file import example_names, load_example
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.indicator import process_record, record_estimates, to_error_function
+from camtol.pair.twin import simulate_record
 from camtol.report import plots
 from camtol.report.display import display_curves
-from camtol.summary import motion_peaks
 
 EXAMPLES = example_names()
 

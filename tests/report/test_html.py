@@ -15,11 +15,11 @@ from pathlib import Path
 import pytest
 
 from camtol import __version__
-from camtol.analysis import Analysis, analyse
-from camtol.cli import main
-from camtol.config import example_names, load_example
-from camtol.design import IT_CONVENTIONS
-from camtol.radius_table import radius_table
+from camtol.analysis.radius_table import radius_table
+from camtol.analysis.result import Analysis, analyse
+from camtol.cli.app import main
+from camtol.config.design_file import example_names, load_example
+from camtol.design.cam_design import IT_CONVENTIONS
 from camtol.report.display import accuracy_words
 from camtol.report.export import ExportError
 from camtol.report.html import CONVENTIONS, report_html, write_report

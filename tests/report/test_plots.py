@@ -15,11 +15,12 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from camtol.analysis import Analysis, analyse
-from camtol.config import example_names, load_example
-from camtol.drawing import analysis_drawing, cam_drawing
-from camtol.inspection import FixtureInspection, FixtureSpec, inspect_conjugate
-from camtol.kinematics import kinematics
+from camtol.analysis.drawing import analysis_drawing, cam_drawing
+from camtol.analysis.kinematics import kinematics
+from camtol.analysis.result import Analysis, analyse
+from camtol.config.design_file import example_names, load_example
+from camtol.pair.fixture import FixtureInspection, inspect_conjugate
+from camtol.pair.fixture_spec import FixtureSpec
 from camtol.report import plots
 from camtol.report.display import display_curves
 
@@ -116,7 +117,7 @@ def test_cam_plot_marks_contact_point(name: str, theta_deg: float) -> None:
     assert ax.get_xlabel() == "X [mm]" and ax.get_ylabel() == "Y [mm]"
     assert_labelled(ax.figure)
     if design.mechanism.kind == "conjugate":
-        from camtol.conjugate import cam_design
+        from camtol.pair.kinematics import cam_design
 
         design = cam_design(design, "A")
     k = kinematics(design, np.radians([theta_deg]), check=False)
@@ -186,7 +187,7 @@ def test_pretty_unit() -> None:
 
 def test_import_camtol_does_not_import_matplotlib_or_ezdxf() -> None:
     code = (
-        "import sys, camtol, camtol.analysis, camtol.config, camtol.cli,"
+        "import sys, camtol, camtol.analysis.result, camtol.config.design_file, camtol.cli.app,"
         " camtol.report.plots, camtol.report.export, camtol.report.html;"
         " bad = [m for m in ('matplotlib', 'ezdxf') if m in sys.modules];"
         " print(bad); sys.exit(1 if bad else 0)"
@@ -198,9 +199,9 @@ def test_import_camtol_does_not_import_matplotlib_or_ezdxf() -> None:
 def test_cam_plot_and_figure_of_roller_followers() -> None:
     import math
 
-    from camtol.design import CamDesign
+    from camtol.design.cam_design import CamDesign
+    from camtol.design.motion import Segment, SegmentProgram
     from camtol.mechanisms import RollerOscillating, RollerTranslating
-    from camtol.motion import Segment, SegmentProgram
 
     def program(h: float) -> SegmentProgram:
         r = math.radians

@@ -16,14 +16,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_design, load_example
-from camtol.inspection import inspect_conjugate
-from camtol.inspection.decision import decide, decision_rule_text
-from camtol.inspection.record import write_indicator_csv
-from camtol.inspection.simulate import simulate_record
-from camtol.profile import profile_points
-from camtol.radius_table import radius_table
+from camtol.analysis.profile import profile_points
+from camtol.analysis.radius_table import radius_table
+from camtol.cli.app import main
+from camtol.config.design_file import load_design, load_example
+from camtol.pair.decision import decide, decision_rule_text
+from camtol.pair.fixture import inspect_conjugate
+from camtol.pair.indicator import write_indicator_csv
+from camtol.pair.twin import simulate_record
 from camtol.report.qa import PRINT_CSS
 
 EXAMPLES_DIR = Path(__file__).parents[2] / "src/camtol/data/examples"

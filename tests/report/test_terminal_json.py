@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.analysis import analyse
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.examples import example_text
+from camtol.analysis.result import analyse
+from camtol.analysis.summary import STANDARD_GRAVITY
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.config.examples import example_text
 from camtol.report.display import display_extremes
-from camtol.summary import STANDARD_GRAVITY
 
 
 def _limited(tmp_path: Path, limit_deg: float) -> Path:

@@ -11,11 +11,11 @@ import pytest
 
 pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.examples import example_text
-from camtol.inspection.lots import lot_statistics
-from camtol.inspection.store import design_identity, open_store
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.config.examples import example_text
+from camtol.records.lots import lot_statistics
+from camtol.records.store import design_identity, open_store
 
 EX = "cw11-conjugate"
 
@@ -184,9 +184,9 @@ def test_every_key_column_and_flag_is_documented(
 ) -> None:
     import click
 
-    from camtol.cli_conjugate import conjugate
-    from camtol.cli_inspect import inspect
-    from camtol.cli_records import records
+    from camtol.cli.conjugate import conjugate
+    from camtol.cli.inspect import inspect
+    from camtol.cli.records import records
 
     doc = (Path(__file__).resolve().parents[2] / "docs" / "records.md").read_text("utf-8")
     url = str(tmp_path / "r.db")

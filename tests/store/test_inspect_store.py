@@ -18,15 +18,15 @@ import pytest
 
 pytest.importorskip("sqlalchemy", reason="the store needs camtol[store] (SQLAlchemy)")
 
-from camtol.cli import main
-from camtol.config import load_example
-from camtol.examples import example_text
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
+from camtol.config.examples import example_text
 from camtol.inspection.cmm import read_scan
 from camtol.inspection.deviations import inspect_scan
-from camtol.inspection.lots import MAX_GAP_STEPS, deviation_on_grid, scan_on_grid
 from camtol.inspection.registration import Datum
-from camtol.inspection.store import design_identity, open_store
 from camtol.inspection.twin import error_from_truth
+from camtol.records.lots import MAX_GAP_STEPS, deviation_on_grid, scan_on_grid
+from camtol.records.store import design_identity, open_store
 
 EX = "cw11-experiment"
 NOISE_UM = 0.5
@@ -292,7 +292,7 @@ def test_store_failure_mid_insert_stores_nothing_and_leaves_complete_outputs(
     curve's insert) rolls the row back; the output files written before are complete."""
     from sqlalchemy import event
 
-    from camtol.inspection import _store_sql
+    from camtol.records import schema as _store_sql
 
     make_engine = _store_sql.make_engine
 
@@ -334,7 +334,7 @@ def test_conjugate_store_is_checked_before_and_written_after_its_outputs(
     assert "give the measured Δf" in _one_line_error(capsys)
     assert not curves.exists() and _count(url) == 0
     order: list[str] = []
-    import camtol.cli_conjugate as cc
+    import camtol.cli.conjugate as cc
     import camtol.report.conjugate as rc
 
     write, add = rc.write_fixture_curves_csv, cc.add_records

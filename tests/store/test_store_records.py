@@ -19,10 +19,10 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 import camtol
-from camtol.config import load_example
-from camtol.examples import example_text
+from camtol.config.design_file import load_example
+from camtol.config.examples import example_text
 from camtol.exceptions import RecordError
-from camtol.inspection.store import (
+from camtol.records.store import (
     InspectionRecord,
     Traceability,
     design_identity,
@@ -158,7 +158,7 @@ def test_record_inspection_keeps_the_design_and_filters(store_url: str) -> None:
 def _count(url: str) -> dict[str, int]:
     from sqlalchemy import create_engine, text
 
-    from camtol.inspection.store import store_url as to_url
+    from camtol.records.store import store_url as to_url
 
     engine = create_engine(to_url(url))
     with engine.connect() as conn:
@@ -199,8 +199,8 @@ def test_failure_mid_insert_leaves_nothing(store_url: str) -> None:
 def test_newer_schema_is_refused(store_url: str) -> None:
     from sqlalchemy import create_engine, text
 
-    from camtol.inspection.store import SCHEMA_VERSION
-    from camtol.inspection.store import store_url as to_url
+    from camtol.records.store import SCHEMA_VERSION
+    from camtol.records.store import store_url as to_url
 
     open_store(store_url).close()
     engine = create_engine(to_url(store_url))
@@ -272,7 +272,7 @@ WRITER = textwrap.dedent(
     """
     import sys
     import numpy as np
-    from camtol.inspection.store import Traceability, make_record, open_store
+    from camtol.records.store import Traceability, make_record, open_store
     url, tag = sys.argv[1], int(sys.argv[2])
     with open_store(url) as s:
         for k in range(40):

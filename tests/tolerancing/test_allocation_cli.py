@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from camtol import iso286
-from camtol.cli import main
-from camtol.config import example_text, load_example
+from camtol.cli.app import main
+from camtol.config.design_file import example_text, load_example
 from camtol.exceptions import DesignError
 from camtol.tolerancing import allocate
 from camtol.tolerancing.montecarlo import prepare
@@ -232,7 +232,7 @@ def test_cli_allocate_refuses_statistics_it_cannot_scale(
 
 def test_allocate_worst_case_accepts_a_bias(tmp_path: Path):
     """Worst case and RSS use ±T only: a bias inside the zone does not change them."""
-    from camtol.config import load_design
+    from camtol.config.design_file import load_design
     from camtol.tolerancing import allocate
 
     plain = allocate(load_design(_design(tmp_path, "")), 0.03, verify_samples=500)

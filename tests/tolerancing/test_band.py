@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
 from camtol.exceptions import DesignError, InputFileError
 from camtol.tolerancing import allocate, monte_carlo
 from camtol.tolerancing.allocation import _with_grades
 from camtol.tolerancing.band import ToleranceBand, band_curves, read_band_csv
-from camtol.tolerancing.montecarlo import prepare, sample_matrix
+from camtol.tolerancing.study import prepare, sample_matrix
 
 CW06 = load_example("cw06-translating")
 STEP = 1.0

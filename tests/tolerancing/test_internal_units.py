@@ -18,8 +18,8 @@ import math
 import numpy as np
 import pytest
 
-from camtol.config import load_example
-from camtol.design import CamDesign
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import CamDesign
 from camtol.report.display import DisplayUnits
 from camtol.report.tolerancing_display import describe_source, display_montecarlo
 from camtol.tolerancing import allocate, monte_carlo

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camtol.cli import main
-from camtol.config import load_example
+from camtol.cli.app import main
+from camtol.config.design_file import load_example
 from camtol.report.tolerancing_display import display_montecarlo
 from camtol.tolerancing import monte_carlo
 from camtol.tolerancing.montecarlo import prepare

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from camtol.config import load_example
-from camtol.design import ToleranceSpec
+from camtol.config.design_file import load_example
+from camtol.design.cam_design import ToleranceSpec
 from camtol.exceptions import DesignError
 from camtol.report.tolerancing_display import display_montecarlo
 from camtol.tolerancing import (
@@ -19,7 +19,7 @@ from camtol.tolerancing import (
     allocate,
     monte_carlo,
 )
-from camtol.tolerancing.montecarlo import prepare, sample_matrix
+from camtol.tolerancing.study import prepare, sample_matrix
 from camtol.tolerancing.plan import CHUNK
 
 CW06 = load_example("cw06-translating")
@@ -73,7 +73,7 @@ def test_max_abs_never_exceeds_worst_case():
 
 
 def _halved(design):
-    rmax = __import__("camtol.analysis", fromlist=["max_radius_mm"]).max_radius_mm(design)
+    rmax = __import__("camtol.analysis.result", fromlist=["max_radius_mm"]).max_radius_mm(design)
     tols = design.resolve_tolerances(rmax)
     specs = []
     for t in tols:
@@ -232,7 +232,7 @@ def test_band_yield():
 def test_a_conjugate_pair_is_sampled_through_cam_a() -> None:
     # Its error sources are cam A's contact's, the output error analyze computes; the
     # command failed with "a conjugate pair is two cams" before.
-    from camtol.analysis import analyse
+    from camtol.analysis.result import analyse
 
     pair = load_example("cw11-conjugate")
     cam_a = pair.cams()[0].design

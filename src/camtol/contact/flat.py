@@ -36,11 +36,11 @@ from numpy.typing import ArrayLike
 
 from camtol.contact.result import FollowerMotion, implicit_derivatives
 from camtol.contact.shapes import AnalyticShape, PolygonShape, Support
+from camtol.design.motion import MotionState
 from camtol.exceptions import DesignError, GeometryError
 from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
 from camtol.mechanisms.elements import OscillatingFace, TranslatingFace
-from camtol.motion import MotionState
 
 __all__ = ["follow_flat_oscillating", "follow_flat_translating"]
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from camtol.design.motion import MotionState
 from camtol.jet import FloatArray
-from camtol.motion import MotionState
 
 __all__ = ["FollowerMotion", "implicit_derivatives"]
 

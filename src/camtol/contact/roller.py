@@ -28,10 +28,10 @@ from camtol.contact.result import FollowerMotion
 from camtol.contact.roller_path import RollerPath, check_clear, roller_path
 from camtol.contact.roller_polygon import derivatives_circle, derivatives_line, solve_polygon
 from camtol.contact.shapes import AnalyticShape, PolygonShape
+from camtol.design.motion import MotionState
 from camtol.exceptions import DesignError, GeometryError
 from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import MotionState
 
 __all__ = ["follow_roller"]
 

@@ -11,7 +11,7 @@ The follower states its path itself
 :class:`~camtol.mechanisms.elements.RollerGuide`); :func:`roller_path` turns it into the
 solver's :class:`RollerPath`. Shared by the single-roller solver
 (:mod:`camtol.contact.roller`) and the conjugate measuring fixture
-(:mod:`camtol.contact.fixture`).
+(:mod:`camtol.pair.contact_fixture`).
 """
 
 from __future__ import annotations

@@ -38,10 +38,10 @@ from numpy.typing import ArrayLike, NDArray
 from camtol import jet
 from camtol.contact.errors_profile import ProfileError
 from camtol.contact.polygon import PolygonShape, Support, sweep_rank
+from camtol.design.motion import MotionProgram
 from camtol.exceptions import GeometryError
 from camtol.jet import FloatArray, Jet, JetLike
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import MotionProgram
 
 __all__ = ["AnalyticShape", "PolygonShape", "Support", "sweep_rank"]
 

@@ -28,7 +28,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError, GeometryError, InputFileError
 from camtol.inspection.cmm import CamLabel, Scan, check_coverage
 from camtol.inspection.profile_table import ProfileTable, profile_table
@@ -94,16 +94,9 @@ def cam_profile(design: CamDesign, cam: CamLabel = "A") -> CamProfile:
     DesignError
         Cam "B" of a single cam, or an unknown label.
     """
-    if cam not in ("A", "B"):
-        raise DesignError(f"--cam {cam!r} is not allowed; use A or B")
-    cams = design.cams()
-    if cam == "B" and len(cams) < 2:
-        raise DesignError(
-            f"--cam B: the design {design.name!r} has one cam ({design.mechanism.kind});"
-            " cam B exists only for a conjugate pair"
-        )
-    single = cams[0 if cam == "A" else 1].design
-    return CamProfile(cam, single, profile_table(single.mechanism, single.program))
+    one = design.cam(cam)
+    single = one.design
+    return CamProfile(one.letter, single, profile_table(single.mechanism, single.program))
 
 
 def check_stylus(profile: CamProfile, stylus_radius_mm: float) -> None:
@@ -127,7 +120,7 @@ def check_stylus(profile: CamProfile, stylus_radius_mm: float) -> None:
     """
     if not stylus_radius_mm > 0:
         return
-    from camtol.manufacturing.toolpath import smallest_concave_radius
+    from camtol.analysis.offset import smallest_concave_radius
 
     tight = smallest_concave_radius(profile.design)
     if tight is not None and tight[0] < stylus_radius_mm:
@@ -161,19 +154,18 @@ def profile_tolerance(
     (float, float, str) or None
         Lower and upper limit [µm] and ``"radial"`` or ``"normal"``.
     """
-    spec = design.inspection
-    if spec is not None:
-        lo, hi = spec.tolerance_a_um if cam == "A" else spec.tolerance_b_um
+    one = design.cam(cam)
+    band = one.inspection_band_um
+    if band is not None:
+        lo, hi = band
         return float(lo), float(hi), "radial"
     keys = {t.key for t in design.tolerances}
     for key, kind in (("n", "normal"), ("r", "radial")):
         if key in keys:
-            from camtol.kinematics import kinematics
+            from camtol.analysis.kinematics import kinematics
 
             theta = np.linspace(0.0, 2 * math.pi, 3601)
-            cams = design.cams()  # the inspected cam (A or B of a pair)
-            single = next((c.design for c in cams if c.label in (cam, "")), cams[0].design)
-            r_max = float(kinematics(single, theta, check=False).radius_mm.max())
+            r_max = float(kinematics(one.design, theta, check=False).radius_mm.max())
             dev = next(t for t in design.resolve_tolerances(r_max) if t.key == key)
             return -dev.deviation * 1e3, dev.deviation * 1e3, kind  # type: ignore[return-value]
     return None
@@ -468,14 +460,15 @@ def _other_cam_hint(
     design: CamDesign, scan: Scan, label: str, datum: Datum, tol: tuple[float, float]
 ) -> str:
     """For a conjugate pair: ' (it matches cam X)' when the scan fits the other cam."""
-    if len(design.cams()) < 2:
-        return ""
-    other = "B" if label == "A" else "A"
-    try:
-        _inspect_scan(design, scan, other, datum, tol, None, None, False)  # type: ignore[arg-type]
-    except (InputFileError, GeometryError):
-        return ""
-    return f" (it matches cam {other}: use --cam {other})"
+    for other in design.cams():
+        if other.letter == label:
+            continue
+        try:
+            _inspect_scan(design, scan, other.letter, datum, tol, None, None, False)  # type: ignore[arg-type]
+        except (InputFileError, GeometryError):
+            continue
+        return f" (it matches cam {other.letter}: use --cam {other.letter})"
+    return ""
 
 
 def _free_jacobian(

@@ -22,10 +22,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camtol.contact.shapes import AnalyticShape
+from camtol.design.motion import MotionProgram
 from camtol.exceptions import GeometryError
 from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import MotionProgram
 
 __all__ = ["ProfileTable", "profile_table"]
 

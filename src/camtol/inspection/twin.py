@@ -1,4 +1,4 @@
-"""Digital twins of the CMM and of the fixture for the same simulated parts (THEORY §4.4, §5).
+"""The digital twin of the CMM: simulated scans of parts with a known error (THEORY §5).
 
 :func:`simulate_scan` makes the scan a CMM would produce of a cam with a known profile
 error: points on the exact profile with the error (the contact engine's
@@ -6,11 +6,8 @@ error: points on the exact profile with the error (the contact engine's
 along the normal, Gaussian probe noise along the normal, outliers, and the part's
 placement on the machine (rotation and eccentricity), with the truth beside it.
 
-:func:`fixture_delta_f` gives the centre-distance variation Δf(θ) that the measuring
-fixture reads on the *same* parts (exact simulation, :func:`~camtol.contact.simulate_fixture`,
-with the cams' radial errors and the fixture's actual arm lengths, roller radii and arm
-angle), to feed :func:`camtol.inspection.simulate_record`: a simulated CMM pair and a
-simulated indicator record then describe the same cams.
+The measuring fixture's reading of the same parts is the pair's twin,
+:func:`camtol.pair.twin.fixture_delta_f`.
 
 The profile error is a given :class:`~camtol.contact.FourierError` or a random
 Fourier series from :func:`random_profile_error` (amplitudes falling as 1/k, scaled to a
@@ -25,13 +22,11 @@ from typing import Any, Literal
 
 import numpy as np
 
-from camtol.contact import AnalyticShape, Fixture, FourierError, simulate_fixture
-from camtol.design import CamDesign
+from camtol.contact import AnalyticShape, FourierError
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
 from camtol.inspection.cmm import MIN_POINTS, CamLabel
-from camtol.inspection.conjugate import FixtureErrors
 from camtol.inspection.deviations import CamProfile, cam_profile, check_stylus
-from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 
 __all__ = [
@@ -42,7 +37,6 @@ __all__ = [
     "ScanTruth",
     "error_from_truth",
     "SimulatedScan",
-    "fixture_delta_f",
     "random_profile_error",
     "scan_csv_text",
     "simulate_scan",
@@ -373,62 +367,6 @@ def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
         f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
     )
     return "\n".join(head) + "\n" + body + "\n"
-
-
-def fixture_delta_f(
-    design: CamDesign,
-    error_a: FourierError | None,
-    error_b: FourierError | None,
-    errors: FixtureErrors | None = None,
-    *,
-    error_kind: ErrorKind = "radial",
-    step_deg: float = 0.1,
-) -> ErrorFunction:
-    """Δf(θ) the fixture reads on cams with the given profile errors (exact, THEORY §5).
-
-    Parameters
-    ----------
-    design : CamDesign
-        A conjugate design.
-    error_a, error_b : FourierError or None
-        Profile errors of cams A and B (mm) as in :func:`simulate_scan`.
-    errors : FixtureErrors, optional
-        Constant errors of the fixture's follower (arm lengths, roller radii, η).
-    error_kind : {"radial", "normal"}
-        How the errors are applied.
-    step_deg : float
-        Grid of the exact simulation; Δf is interpolated linearly between. [deg]
-
-    Returns
-    -------
-    ErrorFunction
-        Δf(θ) in µm, ready for :func:`camtol.inspection.simulate_record`.
-    """
-    from camtol.mechanisms.conjugate import ConjugatePair
-
-    pair = design.mechanism
-    if not isinstance(pair, ConjugatePair):
-        raise DesignError(f"follower.type={pair.kind!r}: the fixture needs a conjugate design")
-    radial = error_kind == "radial"
-    sa = AnalyticShape(
-        pair.cam_a,
-        design.program,
-        radial_error=error_a if radial else None,
-        normal_error=None if radial else error_a,
-    )
-    sb = AnalyticShape(
-        pair.cam_b,
-        design.program,
-        radial_error=error_b if radial else None,
-        normal_error=None if radial else error_b,
-    )
-    n = int(round(360.0 / step_deg))
-    theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    res = simulate_fixture(
-        theta, sa, sb, Fixture.of(pair, errors), initial_angle_rad=pair.initial_angle_rad
-    )
-    df = res.extras["delta_f_mm"] * 1e3
-    return ErrorFunction.table(np.degrees(theta), df, name="simulated fixture Δf")
 
 
 def error_from_truth(

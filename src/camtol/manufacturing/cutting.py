@@ -45,13 +45,13 @@ from typing import Literal, get_args
 
 import numpy as np
 
+from camtol.analysis.profile import MAX_TOOL_RADIUS_MM
 from camtol.contact import PolygonShape, follow
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError, GeometryError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.manufacturing.toolpath import check_gouge, profile_path
-from camtol.profile import MAX_TOOL_RADIUS_MM
 
 __all__ = [
     "CANDIDATE_STEPS_DEG",
@@ -321,7 +321,7 @@ def simulate_cut(
 
     Examples
     --------
-    >>> from camtol.config import load_example
+    >>> from camtol.config.design_file import load_example
     >>> res = simulate_cut(load_example("popa-eccentric"), 2.0)
     >>> round(float(res.lift_error.max()) * 1e3, 2)  # µm: 30 (sec 1° − 1) mm
     4.57

@@ -14,7 +14,7 @@ knows how far to trust A and J:
             K_k = \frac{6 (2 - 2\cos ω_k)^2}{Δθ^3 (4 + 2 \cos ω_k)},
 
   and V, A, J are the derivatives of the spline through g (periodic cubic spline
-  interpolation of g, :class:`camtol.motion.LiftTable`).
+  interpolation of g, :class:`camtol.design.motion.LiftTable`).
 - ``"savgol"``: a Savitzky-Golay filter (scipy) of polynomial order 3, applied around the
   revolution (``mode="wrap"``).
 

@@ -29,11 +29,11 @@ from typing import Literal, get_args
 
 import numpy as np
 
-from camtol.design import CamDesign
+from camtol.analysis.profile import MAX_TOOL_RADIUS_MM
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError, GeometryError, InputFileError
 from camtol.jet import FloatArray
 from camtol.manufacturing.toolpath import PathSample, check_gouge, profile_path, single_cams
-from camtol.profile import MAX_TOOL_RADIUS_MM
 
 __all__ = [
     "GCODE_MODES",
@@ -301,7 +301,7 @@ def write_gcode(
     UndercutError
         The tool radius exceeds a concave radius of curvature (it would gouge; says where).
     """
-    from camtol import __version__
+    from camtol._version import __version__
 
     if (tool_radius_mm is None) == (wire_radius_mm is None):
         raise DesignError("give exactly one of a tool radius or a wire radius (wire EDM)")

@@ -4,7 +4,7 @@ The design's lift is tabulated every Δθ and rounded to k decimals (quantum Q =
 the table's unit: mm, or degrees for an oscillating follower). From each rounded table
 camtol computes V and A the way a machine controller or a spreadsheet does (central
 differences) and the way camtol itself does (its periodic cubic spline,
-:class:`camtol.motion.LiftTable`), and compares them with the analytic V and A:
+:class:`camtol.design.motion.LiftTable`), and compares them with the analytic V and A:
 
 .. math::
 
@@ -12,7 +12,7 @@ differences) and the way camtol itself does (its periodic cubic spline,
 
 Deviations of at most s = Q/2 change the second difference by at most 4s/Δθ² (alternating
 signs) or 2s/Δθ² (a single dip) ([CDH] eq. 10.4, THEORY §6.1); the spline amplifies
-alternating deviations three times more, 6Q/Δθ² (:mod:`camtol.table_noise`). Without
+alternating deviations three times more, 6Q/Δθ² (:mod:`camtol.design.table_noise`). Without
 rounding the second difference carries the truncation error
 A_c − A = (Δθ²/12) S'''' + O(Δθ⁴); for s = e(1 − cos φ) exactly
 A_c = A · 2(1 − cos Δθ)/Δθ², i.e. |A_c − A| ≤ e Δθ²/12 (THEORY §6.1; proved in
@@ -37,12 +37,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
+from camtol.design.motion import LiftTable
+from camtol.design.table_noise import second_difference_gain, spline_acceleration_gain
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
-from camtol.motion import LiftTable
-from camtol.table_noise import second_difference_gain, spline_acceleration_gain
 
 __all__ = ["DEFAULT_DECIMALS", "MAX_DECIMALS", "PrecisionRow", "PrecisionStudy", "table_precision"]
 
@@ -192,7 +192,7 @@ def table_precision(
 
     Examples
     --------
-    >>> from camtol.config import load_example
+    >>> from camtol.config.design_file import load_example
     >>> st = table_precision(load_example("popa-eccentric"), decimals=[3, 6])
     >>> [round(r.max_abs_dA_central, 1) for r in st.rows]
     [5.1, 0.0]

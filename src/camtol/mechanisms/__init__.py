@@ -8,13 +8,20 @@ one registry (``follower.type`` → class) from which the design-file schema is 
 
 from __future__ import annotations
 
-from camtol.mechanisms.base import ContactGeometry, ErrorSource, Mechanism, shift_angle
+from camtol.mechanisms.base import (
+    FOLLOWER_TYPES,
+    ContactGeometry,
+    ErrorSource,
+    Mechanism,
+    register_follower,
+    shift_angle,
+)
 from camtol.mechanisms.conjugate import ConjugatePair
 from camtol.mechanisms.flat_oscillating import FlatOscillating
 from camtol.mechanisms.flat_translating import FlatTranslating
 from camtol.mechanisms.roller_oscillating import RollerOscillating
 from camtol.mechanisms.roller_translating import RollerTranslating
-from camtol.mechanisms.spec import FOLLOWER_TYPES, Parameter, register_follower
+from camtol.mechanisms.spec import Parameter
 
 #: Follower types by the name used in design files (``follower.type``); the registry
 #: filled by :func:`~camtol.mechanisms.spec.register_follower`.

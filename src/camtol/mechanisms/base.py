@@ -30,16 +30,15 @@ from camtol.mechanisms.elements import (
     point,
 )
 from camtol.mechanisms.spec import (
-    FOLLOWER_TYPES,
     Parameter,
     length,
     offset,
-    register_follower,
 )
 
 OutputKind = Literal["translating", "oscillating"]
 SourceUnit = Literal["mm", "rad"]
 M = TypeVar("M", bound="Mechanism")
+_MechanismType = TypeVar("_MechanismType", bound="type[Mechanism]")
 
 __all__ = [
     "FOLLOWER_TYPES",
@@ -78,7 +77,7 @@ class ErrorSource:
         Name of the mechanism's dataclass field that this source perturbs (a follower
         dimension, e.g. ``"roller_radius_mm"``), or None for sources that are not a
         parameter of the mechanism (profile errors ``r``, ``n``; design-level sources of
-        :mod:`camtol.sources`). :meth:`Mechanism.perturbed` uses it.
+        :mod:`camtol.design.sources`). :meth:`Mechanism.perturbed` uses it.
     """
 
     key: str
@@ -167,7 +166,7 @@ class Mechanism(ABC):
     #: where the cam is. The engine then evaluates them once per dwell and turns the
     #: points (tested for every follower type that sets it).
     motion_only: ClassVar[bool] = False
-    #: Angles the analytic engine (:mod:`camtol.engine`) evaluates at once: the
+    #: Angles the analytic engine (:mod:`camtol.analysis.engine`) evaluates at once: the
     #: intermediate arrays of :meth:`contact` and :meth:`error_sensitivities` at this
     #: length should fit in a core's cache. A follower with lean formulas takes longer
     #: chunks, so fewer numpy calls (measured by ``bench/bench_analyze.py``).
@@ -491,7 +490,7 @@ class Mechanism(ABC):
         """Return the single-contact cams this mechanism stands for: (label, mechanism).
 
         One unlabelled cam (``("", self)``) for an ordinary follower; a conjugate pair
-        returns its cams ``"A"`` and ``"B"``. :meth:`camtol.design.CamDesign.cams` builds
+        returns its cams ``"A"`` and ``"B"``. :meth:`camtol.design.cam_design.CamDesign.cams` builds
         on it.
 
         Returns
@@ -539,3 +538,37 @@ def require_finite(field: str, value: float) -> None:
 
     if not math.isfinite(value):
         raise DesignError(f"{field}={value!r} is not allowed; it must be a finite number")
+
+
+#: Follower types by the name used in design files (``follower.type``), built from the
+#: classes by :func:`register_follower`. Every other table of types derives from it.
+FOLLOWER_TYPES: dict[str, type[Mechanism]] = {}
+
+
+def register_follower(cls: _MechanismType) -> _MechanismType:
+    """Class decorator: make a mechanism a follower type of design files.
+
+    The class must define ``kind`` (the ``follower.type`` name) and ``parameters``. The
+    design-file schema, the contact engine and the reports take everything else from the
+    class itself, so adding a follower type touches one module (plus its tests).
+
+    Parameters
+    ----------
+    cls : type of Mechanism
+        The follower class.
+
+    Returns
+    -------
+    type
+        ``cls`` unchanged.
+
+    Raises
+    ------
+    ValueError
+        If another class already uses that ``kind``.
+    """
+    other = FOLLOWER_TYPES.get(cls.kind)
+    if other is not None and other is not cls:
+        raise ValueError(f"follower type {cls.kind!r} is already registered by {other!r}")
+    FOLLOWER_TYPES[cls.kind] = cls
+    return cls

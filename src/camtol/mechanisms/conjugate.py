@@ -7,8 +7,8 @@ sharing the follower angle ξ(θ): :class:`~camtol.mechanisms.roller_oscillating
 for cam A and :class:`ConjugateCamB` (the mirrored closed forms) for cam B.
 :class:`ConjugatePair` is the pair as written in a design file; its
 :meth:`~ConjugatePair.cams` gives cams A and B, and every analysis runs per cam
-(:meth:`camtol.design.CamDesign.cams`). The pair's own physics (both cams together, the
-measuring fixture) is in :mod:`camtol.conjugate` and :mod:`camtol.contact.fixture`.
+(:meth:`camtol.design.cam_design.CamDesign.cams`). The pair's own physics (both cams together, the
+measuring fixture) is in :mod:`camtol.pair.kinematics` and :mod:`camtol.pair.contact_fixture`.
 
 References
 ----------
@@ -231,7 +231,7 @@ class ConjugatePair(Mechanism):
     The pair is two cams, not one: :meth:`cams` gives cam A (:attr:`cam_a`) and cam B
     (:attr:`cam_b`), and every single-contact evaluation (contact, sensitivities,
     curvature, contact engine) goes through them; the pair's own ones raise.
-    :func:`camtol.conjugate.conjugate_kinematics` evaluates both together. Its error
+    :func:`camtol.pair.kinematics.conjugate_kinematics` evaluates both together. Its error
     sources and their IT nominal sizes are cam A's. The follower turns with the cam during a
     rise (THEORY §0), q = fV/(1 − V).
     """

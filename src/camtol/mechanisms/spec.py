@@ -2,7 +2,7 @@
 
 A follower type is one class (:class:`camtol.mechanisms.base.Mechanism` subclass) that
 states its design-file fields here, as :class:`Parameter` objects, and registers itself
-with :func:`register_follower`. The design-file schema (:mod:`camtol.config`), the
+with :func:`register_follower`. The design-file schema (:mod:`camtol.config.design_file`), the
 writer of design files and every table of types derive from :data:`FOLLOWER_TYPES`.
 """
 
@@ -10,22 +10,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal, TypeVar
-
-if TYPE_CHECKING:
-    from camtol.mechanisms.base import Mechanism
+from typing import Literal
 
 __all__ = [
-    "FOLLOWER_TYPES",
     "LENGTH_RANGE_MM",
     "OFFSET_RANGE_MM",
     "Parameter",
     "length",
     "offset",
-    "register_follower",
 ]
-
-M = TypeVar("M", bound="type[Mechanism]")
 
 
 #: Plausible range of a length in a design file (STYLE: bounds stated in the schema). [mm]
@@ -38,7 +31,7 @@ OFFSET_RANGE_MM: tuple[float, float] = (-1e5, 1e5)
 class Parameter:
     """A follower dimension as written in the ``[follower]`` table of a design file.
 
-    The design-file schema (:mod:`camtol.config`) is derived from these declarations, so
+    The design-file schema (:mod:`camtol.config.design_file`) is derived from these declarations, so
     a follower type states its fields, units, bounds and defaults once, here.
 
     Attributes
@@ -140,37 +133,3 @@ def offset(name: str, description: str, *, default: float = 0.0) -> Parameter:
     """
     lo, hi = OFFSET_RANGE_MM
     return Parameter(name, name, description, lo, hi, default, False)
-
-
-#: Follower types by the name used in design files (``follower.type``), built from the
-#: classes by :func:`register_follower`. Every other table of types derives from it.
-FOLLOWER_TYPES: dict[str, type[Mechanism]] = {}
-
-
-def register_follower(cls: M) -> M:
-    """Class decorator: make a mechanism a follower type of design files.
-
-    The class must define ``kind`` (the ``follower.type`` name) and ``parameters``. The
-    design-file schema, the contact engine and the reports take everything else from the
-    class itself, so adding a follower type touches one module (plus its tests).
-
-    Parameters
-    ----------
-    cls : type of Mechanism
-        The follower class.
-
-    Returns
-    -------
-    type
-        ``cls`` unchanged.
-
-    Raises
-    ------
-    ValueError
-        If another class already uses that ``kind``.
-    """
-    other = FOLLOWER_TYPES.get(cls.kind)
-    if other is not None and other is not cls:
-        raise ValueError(f"follower type {cls.kind!r} is already registered by {other!r}")
-    FOLLOWER_TYPES[cls.kind] = cls
-    return cls

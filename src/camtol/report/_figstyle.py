@@ -26,7 +26,7 @@ def _stamp(ax: Axes, name: str, made_here: bool) -> None:
     """Name the design and the camtol version on a figure this module made."""
     if not made_here:
         return
-    from camtol import __version__
+    from camtol._version import __version__
 
     fig: Any = ax.get_figure()
     fig.suptitle(f"{name} (camtol {__version__})", fontsize="medium")

@@ -13,17 +13,17 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol import __version__
-from camtol.analysis import Analysis
-from camtol.extremes import Extreme
-from camtol.inspection.acceptance import merge_intervals
-from camtol.inspection.fixture import FixtureInspection
-from camtol.inspection.spec import FixtureSpec
+from camtol._version import __version__
+from camtol.analysis.extremes import Extreme
+from camtol.analysis.result import Analysis
 from camtol.jet import FloatArray
+from camtol.pair.acceptance import merge_intervals
+from camtol.pair.fixture import FixtureInspection
+from camtol.pair.fixture_spec import FixtureSpec
 from camtol.report.units import fmt
 
 if TYPE_CHECKING:
-    from camtol.inspection.record import RecordEstimates
+    from camtol.pair.indicator import RecordEstimates
 
 __all__ = [
     "conjugate_analysis_json",
@@ -47,7 +47,7 @@ def conjugate_profile_columns(
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
     cols : dict of str to ndarray
         Single-contact columns from :func:`camtol.report.tables.curves_columns`, keyed by
         CSV column name (units in the names).
@@ -86,7 +86,7 @@ def conjugate_analysis_json(a: Analysis) -> dict[str, Any]:
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
 
     Returns
     -------
@@ -181,14 +181,14 @@ def write_fixture_curves_csv(
         With an indicator record: adds the columns of u_f and of the estimates at
         Δf_mea ± u_f (see :func:`fixture_curves_columns`). [µm]
     """
+    from camtol.files import atomic_write
     from camtol.report.csv_text import csv_text
     from camtol.report.finite import require_finite_columns
-    from camtol.report.tables import atomic_write_text
 
     cols = fixture_curves_columns(res, record=record)
     require_finite_columns(cols, optional=OPTIONAL_FIXTURE_COLUMNS, where=str(path))
     data = np.column_stack(list(cols.values()))
-    atomic_write_text(path, csv_text(list(cols), data, blank_nonfinite=True))
+    atomic_write(path, csv_text(list(cols), data, blank_nonfinite=True))
 
 
 def _extreme(mx: Extreme, mn: Extreme) -> dict[str, Any]:

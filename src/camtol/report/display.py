@@ -1,7 +1,7 @@
 """Display units of an analysis: the one place that turns internal units into shown ones.
 
-:func:`camtol.analysis.analyze` returns every result in internal units (THEORY §0: mm,
-rad, per radian of cam angle; :attr:`camtol.analysis.Quantity.unit`). Tables, files,
+:func:`camtol.analysis.result.analyze` returns every result in internal units (THEORY §0: mm,
+rad, per radian of cam angle; :attr:`camtol.analysis.result.Quantity.unit`). Tables, files,
 plots and the HTML report show
 
 * the output errors ΔS of a translating follower in µm, of an oscillating one in
@@ -12,7 +12,7 @@ plots and the HTML report show
 
 :func:`display_unit` gives the unit and factor of one quantity; :func:`display_analysis`
 the whole analysis as shown (quantities, lazily converted curves, extremes, travel).
-Curves are converted when read (:meth:`camtol.analysis.Curves.scaled`), so a fine grid
+Curves are converted when read (:meth:`camtol.analysis.result.Curves.scaled`), so a fine grid
 holds no second copy of them (docs/performance.md, "Nothing kept twice").
 """
 
@@ -24,12 +24,12 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from camtol.extremes import Extreme, scaled_extremes
+from camtol.analysis.extremes import Extreme, scaled_extremes
 from camtol.jet import FloatArray
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.analysis import Analysis, Quantity
-    from camtol.design import CamDesign
+    from camtol.analysis.result import Analysis, Quantity
+    from camtol.design.cam_design import CamDesign
     from camtol.iso286 import GradeBracket
 
 __all__ = [
@@ -51,7 +51,7 @@ __all__ = [
 _DEG = 180.0 / math.pi
 
 #: What every report says of the output accuracy of a design that tolerances nothing
-#: (:attr:`camtol.analysis.Analysis.accuracy` is None: its ΔS is zero by construction).
+#: (:attr:`camtol.analysis.result.Analysis.accuracy` is None: its ΔS is zero by construction).
 ACCURACY_NOT_ASSESSED = "not assessed: the design gives no tolerances"
 
 
@@ -61,7 +61,7 @@ def accuracy_words(accuracy: GradeBracket | None) -> str:
     Parameters
     ----------
     accuracy : iso286.GradeBracket or None
-        :attr:`camtol.analysis.Analysis.accuracy` (None: nothing toleranced).
+        :attr:`camtol.analysis.result.Analysis.accuracy` (None: nothing toleranced).
 
     Returns
     -------
@@ -164,7 +164,7 @@ class DisplayUnits:
 
 
 def display_unit(quantity: Quantity, design: CamDesign) -> DisplayUnit:
-    """Display unit and factor of a quantity of :func:`camtol.analysis.analyze`.
+    """Display unit and factor of a quantity of :func:`camtol.analysis.result.analyze`.
 
     Parameters
     ----------
@@ -191,7 +191,7 @@ def display_unit(quantity: Quantity, design: CamDesign) -> DisplayUnit:
 class DisplayCurves(Mapping[str, FloatArray]):
     """Every curve of an analysis in its display unit, converted when read.
 
-    Keys are those of :attr:`camtol.analysis.Analysis.curves`; each look-up returns a
+    Keys are those of :attr:`camtol.analysis.result.Analysis.curves`; each look-up returns a
     new array (or the analysis' own one when the factor is 1: do not modify it).
     """
 
@@ -211,7 +211,7 @@ class DisplayCurves(Mapping[str, FloatArray]):
         DisplayUnit
             Its display unit and the factor from the internal unit.
         """
-        from camtol.analysis import Quantity
+        from camtol.analysis.result import Quantity
 
         a = self._analysis
         return display_unit(Quantity(key, key, a.curves.unit(key)), a.design)
@@ -232,7 +232,7 @@ def display_curves(analysis: Analysis) -> DisplayCurves:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyze`.
+        Result of :func:`camtol.analysis.result.analyze`.
 
     Returns
     -------
@@ -248,7 +248,7 @@ def display_extremes(analysis: Analysis) -> dict[str, tuple[Extreme, Extreme]]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyze`.
+        Result of :func:`camtol.analysis.result.analyze`.
 
     Returns
     -------
@@ -304,7 +304,7 @@ def display_analysis(analysis: Analysis) -> AnalysisDisplay:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyze`.
+        Result of :func:`camtol.analysis.result.analyze`.
 
     Returns
     -------
@@ -340,12 +340,12 @@ def analysis_notes(analysis: Analysis) -> tuple[str, ...]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyze`.
+        Result of :func:`camtol.analysis.result.analyze`.
 
     Returns
     -------
     tuple of str
-        For a lift table (:attr:`camtol.analysis.Analysis.lift_table`): that V, A, J come
+        For a lift table (:attr:`camtol.analysis.result.Analysis.lift_table`): that V, A, J come
         from a spline through it, and how much its rounding can change A (lengths in mm,
         an oscillating follower's angles in degrees); then :attr:`Analysis.notes`.
     """

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
 from camtol.jet import FloatArray
 
 __all__ = [

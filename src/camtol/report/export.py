@@ -1,7 +1,7 @@
 """Profile exports for CAD/CAM: CSV, DXF and SVG of the analytic cam profile (THEORY §2).
 
 The adaptive sampling within a chordal tolerance, with its verification, is core
-(:mod:`camtol.profile`, which documents the method and the cam frame); this module only
+(:mod:`camtol.analysis.profile`, which documents the method and the cam frame); this module only
 writes its result, coordinates in mm in the cam frame. :func:`camtol.export.write_profile`
 does both for a design.
 """
@@ -14,11 +14,11 @@ from typing import Literal
 
 import numpy as np
 
-from camtol.design import CamDesign
+from camtol.analysis.profile import DEFAULT_TOLERANCE_MM, ProfileCurve, ProfilePoints
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import ExportError
 from camtol.files import atomic_write
 from camtol.jet import FloatArray
-from camtol.profile import DEFAULT_TOLERANCE_MM, ProfileCurve, ProfilePoints
 from camtol.report.csv_text import csv_text
 
 __all__ = [
@@ -41,7 +41,7 @@ ExportFormat = Literal["csv", "dxf", "svg"]
 # Writers
 # ---------------------------------------------------------------------------------------
 def _csv_text(cols: dict[str, FloatArray]) -> str:
-    """One row per cam angle: the columns of :func:`camtol.profile.profile_table`."""
+    """One row per cam angle: the columns of :func:`camtol.analysis.profile.profile_table`."""
     return csv_text(list(cols), np.column_stack(list(cols.values())), digits=12)
 
 
@@ -77,7 +77,7 @@ def write_profile_points(
 ) -> ProfilePoints:
     """Write sampled profile curves for CAD/CAM; the format follows the file suffix.
 
-    The sampling is core (:func:`camtol.profile.profile_points`);
+    The sampling is core (:func:`camtol.analysis.profile.profile_points`);
     :func:`camtol.export.write_profile` samples a design and calls this.
 
     Parameters
@@ -85,7 +85,7 @@ def write_profile_points(
     design : CamDesign
         The design the curves belong to (for the drawing marks of DXF and SVG).
     points : ProfilePoints
-        The sampled curves, from :func:`camtol.profile.profile_points`.
+        The sampled curves, from :func:`camtol.analysis.profile.profile_points`.
     path : str or Path
         Output file: ``.csv`` (one row per cam angle: ``theta_deg`` and ``<layer>_x_mm``,
         ``<layer>_y_mm`` of every curve), ``.dxf`` (closed LWPOLYLINEs, one layer per
@@ -93,7 +93,7 @@ def write_profile_points(
         carry the timing mark, rotation arrow, bore/hub and labels of
         :mod:`camtol.report.drawing_marks`.
     table : mapping of str to ndarray, optional
-        The CSV columns, from :func:`camtol.profile.profile_table` (required for CSV).
+        The CSV columns, from :func:`camtol.analysis.profile.profile_table` (required for CSV).
         [deg, mm]
 
     Returns
@@ -117,7 +117,8 @@ def write_profile_points(
         raise ExportError(f"output file {str(p)!r}: directory {str(p.parent)!r} does not exist")
     if fmt == "csv" and table is None:
         raise ExportError(
-            f"output file {str(p)!r}: a CSV export needs the table of camtol.profile.profile_table"
+            f"output file {str(p)!r}: a CSV export needs the table of"
+            " camtol.analysis.profile.profile_table"
         )
     from camtol.report.finite import require_finite
 
@@ -129,7 +130,7 @@ def write_profile_points(
         assert table is not None
         data = _csv_text(dict(table)).encode("utf-8")
     else:
-        from camtol import __version__
+        from camtol._version import __version__
         from camtol.report.drawing_marks import drawing_marks
         from camtol.report.profile_writers import dxf_bytes, svg_text
 

@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.design import IT_CONVENTIONS, CamDesign
-from camtol.kinematics import beyond_pressure_angle_limit
+from camtol.analysis.kinematics import beyond_pressure_angle_limit
+from camtol.design.cam_design import IT_CONVENTIONS, CamDesign
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.qa import (
     PRINT_CSS,
@@ -34,8 +34,8 @@ from camtol.report.qa import (
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-    from camtol.analysis import Analysis
-    from camtol.radius_table import RadiusTable
+    from camtol.analysis.radius_table import RadiusTable
+    from camtol.analysis.result import Analysis
     from camtol.study import Study
 
 __all__ = ["CONVENTIONS", "InspectionReport", "figure_svg", "report_html", "write_report"]
@@ -205,7 +205,7 @@ def _verdicts(a: Analysis, fixture: InspectionReport | None) -> str:
     if fixture is not None:
         res = fixture.inspection
         if res.verdicts:
-            from camtol.inspection.decision import decision_rule_text
+            from camtol.pair.decision import decision_rule_text
 
             items.append(f"Decision rule: {_e(decision_rule_text(fixture.decision))}.")
         if fixture.record is not None:
@@ -255,7 +255,7 @@ def report_html(
         Traceability fields (keys of :data:`camtol.report.qa.TRACEABILITY_FIELDS`); they
         override the design's ``[traceability]`` table.
     radius_table : RadiusTable, optional
-        Append this radius table (:func:`camtol.radius_table.radius_table`, every 1° of
+        Append this radius table (:func:`camtol.analysis.radius_table.radius_table`, every 1° of
         polar angle) as an appendix.
     sections : sequence of str
         Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
@@ -266,7 +266,7 @@ def report_html(
     str
         The complete HTML document; the overall PASS/FAIL banner comes first.
     """
-    from camtol import __version__
+    from camtol._version import __version__
     from camtol.report.plots import analysis_figure, fixture_figure
 
     a = study.analysis

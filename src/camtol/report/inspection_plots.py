@@ -5,7 +5,7 @@ magnified along the normal and the tolerance zone around it; the normal deviatio
 the polar angle with the tolerance limits and the outliers marked; and the follower-motion
 error of the measured cam, exact and linear (:mod:`camtol.inspection.functional`).
 For a conjugate pair, the fixture's Δf predicted from the two CMM profiles against the
-record ([CW11] Table 4, :mod:`camtol.inspection.cmm_fixture`). Matplotlib is imported
+record ([CW11] Table 4, :mod:`camtol.pair.cmm_fixture`). Matplotlib is imported
 only when a figure is drawn (no pyplot).
 """
 
@@ -19,9 +19,9 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from camtol.inspection.cmm_fixture import CmmFixtureComparison
     from camtol.inspection.deviations import CamProfile, CmmInspection
     from camtol.inspection.functional import FunctionalDeviation
+    from camtol.pair.cmm_fixture import CmmFixtureComparison
 
 __all__ = ["cmm_fixture_figure", "inspection_figure"]
 
@@ -158,7 +158,7 @@ def cmm_fixture_figure(comparison: CmmFixtureComparison) -> Figure:
     """
     from matplotlib.figure import Figure
 
-    from camtol.inspection.cmm_fixture import rms
+    from camtol.pair.cmm_fixture import rms
 
     c = comparison
     deg = np.degrees(c.theta_rad)

@@ -11,7 +11,7 @@ from camtol.jet import FloatArray
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-    from camtol.analysis import Analysis
+    from camtol.analysis.result import Analysis
 
 __all__ = ["COLOURS", "THETA_LABEL", "axes", "axis_label", "pretty_unit", "theta_axis"]
 

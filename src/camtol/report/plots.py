@@ -48,8 +48,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from camtol.analysis import Analysis
-    from camtol.drawing import CamDrawing
+    from camtol.analysis.drawing import CamDrawing
+    from camtol.analysis.result import Analysis
     from camtol.mechanisms.elements import Outline
 
 __all__ = [
@@ -93,7 +93,7 @@ def shift_angle_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     ax : matplotlib Axes, optional
         Where to draw; a new figure otherwise. u (flat faces) goes on a twin y axis.
 
@@ -144,7 +144,7 @@ def radial_factor_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     ax : matplotlib Axes, optional
         Where to draw.
 
@@ -222,7 +222,7 @@ def lift_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     ax : matplotlib Axes, optional
         Where to draw.
 
@@ -242,7 +242,7 @@ def velocity_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[Any]
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     ax : matplotlib Axes, optional
         Where to draw.
 
@@ -262,7 +262,7 @@ def acceleration_error_plot(analysis: Analysis, ax: Axes | None = None) -> list[
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     ax : matplotlib Axes, optional
         Where to draw.
 
@@ -289,7 +289,7 @@ def cam_plot(drawing: CamDrawing, ax: Axes | None = None) -> list[Any]:
     Parameters
     ----------
     drawing : CamDrawing
-        From :func:`camtol.drawing.cam_drawing` (every cam of the design, both cams of a
+        From :func:`camtol.analysis.drawing.cam_drawing` (every cam of the design, both cams of a
         conjugate pair).
     ax : matplotlib Axes, optional
         Where to draw.
@@ -385,7 +385,7 @@ def _motion_peaks(analysis: Analysis) -> Any:
     peaks = getattr(analysis, "motion", None)
     if peaks is not None:
         return peaks
-    from camtol.summary import motion_peaks
+    from camtol.analysis.summary import motion_peaks
 
     return motion_peaks(
         analysis.kinematics,
@@ -414,7 +414,7 @@ def svaj_plot(analysis: Analysis, axs: list[Axes] | None = None) -> list[Any]:
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     axs : list of 4 matplotlib Axes, optional
         Where to draw S, V, A and J (top to bottom); a new figure otherwise.
 
@@ -428,7 +428,7 @@ def svaj_plot(analysis: Analysis, axs: list[Axes] | None = None) -> list[Any]:
     At the design speed ω the derivatives are time derivatives (V = ω dS/dθ, A = ω²
     d²S/dθ², J = ω³ d³S/dθ³) in m/s, m/s², m/s³ (rad/s… for an oscillating follower);
     without a speed they are per radian of cam angle. The peaks in each panel's label come
-    from :func:`camtol.summary.motion_peaks`.
+    from :func:`camtol.analysis.summary.motion_peaks`.
     """
     made_here = axs is None
     if axs is None:
@@ -477,10 +477,10 @@ def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Fi
     Parameters
     ----------
     analysis : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
     drawing : CamDrawing
         The cam and follower to draw in the first panel (e.g. from
-        :func:`camtol.drawing.analysis_drawing`, at the angle where the worst-case error
+        :func:`camtol.analysis.drawing.analysis_drawing`, at the angle where the worst-case error
         is largest).
 
     Returns
@@ -491,13 +491,15 @@ def analysis_figure(analysis: Analysis, drawing: CamDrawing | None = None) -> Fi
     """
     from matplotlib.figure import Figure
 
-    from camtol import __version__
+    from camtol._version import __version__
 
     fig = Figure(figsize=(14.0, 20.0), layout="constrained")
     gs = fig.add_gridspec(4, 2, height_ratios=(1.4, 1.0, 1.0, 1.0))
     worst = display_extremes(analysis)["dS_worst"][0]
     if drawing is None:
-        raise TypeError("analysis_figure needs the drawing (camtol.drawing.analysis_drawing)")
+        raise TypeError(
+            "analysis_figure needs the drawing (camtol.analysis.drawing.analysis_drawing)"
+        )
     cam_plot(drawing, ax=fig.add_subplot(gs[0, 0]))
     svaj = gs[0, 1].subgridspec(4, 1, hspace=0.05)
     svaj_axes = [fig.add_subplot(svaj[i]) for i in range(4)]

@@ -27,9 +27,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from camtol.inspection.acceptance import CamVerdict
-    from camtol.inspection.fixture import FixtureInspection
-    from camtol.inspection.record import RecordEstimates
+    from camtol.pair.acceptance import CamVerdict
+    from camtol.pair.fixture import FixtureInspection
+    from camtol.pair.indicator import RecordEstimates
 
 __all__ = [
     "acceptance_plot",
@@ -56,7 +56,7 @@ def conjugate_variation_plot(
     Parameters
     ----------
     inspection : FixtureInspection
-        Result of :func:`camtol.inspection.fixture.inspect_conjugate`.
+        Result of :func:`camtol.pair.fixture.inspect_conjugate`.
     ax : matplotlib Axes, optional
         Where to draw.
     design_name : str
@@ -113,7 +113,7 @@ def profile_error_estimate_plot(
     Parameters
     ----------
     inspection : FixtureInspection
-        Result of :func:`camtol.inspection.fixture.inspect_conjugate` with a measured Δf.
+        Result of :func:`camtol.pair.fixture.inspect_conjugate` with a measured Δf.
     ax : matplotlib Axes, optional
         Where to draw.
     tolerance_a_um, tolerance_b_um : tuple of float, optional
@@ -208,7 +208,7 @@ def acceptance_plot(
     Parameters
     ----------
     inspection : FixtureInspection
-        Result of :func:`camtol.inspection.fixture.inspect_conjugate`.
+        Result of :func:`camtol.pair.fixture.inspect_conjugate`.
     ax : matplotlib Axes, optional
         Where to draw.
     cam : {"A", "B"}
@@ -288,7 +288,7 @@ def fixture_figure(
     Parameters
     ----------
     inspection : FixtureInspection
-        Result of :func:`camtol.inspection.fixture.inspect_conjugate`.
+        Result of :func:`camtol.pair.fixture.inspect_conjugate`.
     tolerance_a_um, tolerance_b_um : tuple of float, optional
         Radial tolerances of cams A and B. [µm]
     design_name : str
@@ -306,7 +306,7 @@ def fixture_figure(
     """
     from matplotlib.figure import Figure
 
-    from camtol import __version__
+    from camtol._version import __version__
 
     fig = Figure(figsize=(14.0, 9.5), layout="constrained")
     axs = fig.subplots(2, 2)

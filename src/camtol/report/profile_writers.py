@@ -16,7 +16,7 @@ import numpy as np
 from camtol.report.drawing_marks import DrawingMarks, add_dxf_marks, svg_marks, xml_escape
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.profile import ProfilePoints
+    from camtol.analysis.profile import ProfilePoints
 
 __all__ = ["dxf_bytes", "svg_text"]
 
@@ -85,7 +85,7 @@ def svg_text(points: ProfilePoints, marks: DrawingMarks) -> str:
     str
         The SVG document.
     """
-    from camtol import __version__
+    from camtol._version import __version__
 
     xs = np.concatenate([c.x_mm for c in points.curves] + [p[1] for p in marks.polylines])
     ys = np.concatenate([c.y_mm for c in points.curves] + [p[2] for p in marks.polylines])

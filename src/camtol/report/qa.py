@@ -2,11 +2,11 @@
 
 * :func:`overall_verdict`: PASS/FAIL first (issue 13 item 13). An inspected part (a
   measured conjugate pair, THEORY §4.3) passes when every inspected cam passes under the
-  decision rule in force (:mod:`camtol.inspection.decision`, ISO 14253-1); a design
+  decision rule in force (:mod:`camtol.pair.decision`, ISO 14253-1); a design
   without a measurement gets the design checks (pressure-angle limit; undercut is an
   error before any report is made).
 * :func:`radius_table_html`: the cam drawing's table of
-  :func:`camtol.radius_table.radius_table`, formatted.
+  :func:`camtol.analysis.radius_table.radius_table`, formatted.
 * :data:`TRACEABILITY_FIELDS` and :data:`PRINT_CSS`.
 """
 
@@ -18,13 +18,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.analysis import Analysis
-    from camtol.inspection.acceptance import CamVerdict
-    from camtol.inspection.decision import DecisionRule
-    from camtol.inspection.fixture import FixtureInspection
-    from camtol.inspection.record import RecordEstimates
-    from camtol.inspection.spec import FixtureSpec
-    from camtol.radius_table import RadiusTable
+    from camtol.analysis.radius_table import RadiusTable
+    from camtol.analysis.result import Analysis
+    from camtol.pair.acceptance import CamVerdict
+    from camtol.pair.decision import DecisionRule
+    from camtol.pair.fixture import FixtureInspection
+    from camtol.pair.fixture_spec import FixtureSpec
+    from camtol.pair.indicator import RecordEstimates
 
 __all__ = [
     "PRINT_CSS",
@@ -120,7 +120,7 @@ class OverallVerdict:
 
 def _where(v: CamVerdict, shown: int = 4) -> str:
     """Failing stretches (intervals joined across gaps < 1°), at most ``shown`` of them."""
-    from camtol.inspection.acceptance import merge_intervals
+    from camtol.pair.acceptance import merge_intervals
 
     spans = merge_intervals(v.failing_intervals_deg, 1.0)
     text = ", ".join(f"{s:.2f}-{e:.2f}°" for s, e in spans[:shown])
@@ -148,7 +148,7 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
     """
     name = a.design.name
     if fixture is not None and fixture.inspection.verdicts:
-        from camtol.inspection.decision import decision_rule_text
+        from camtol.pair.decision import decision_rule_text
 
         reasons = []
         for cam, v in sorted(fixture.inspection.verdicts.items()):
@@ -170,7 +170,7 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
     reasons = ["no undercut or cusp"]
     ok = True
     if limit is not None:
-        from camtol.kinematics import beyond_pressure_angle_limit
+        from camtol.analysis.kinematics import beyond_pressure_angle_limit
 
         ok = not beyond_pressure_angle_limit(pa, limit)
         reasons.append(f"largest |φ| {pa:.2f}° {'within' if ok else 'BEYOND'} the limit {limit:g}°")
@@ -192,7 +192,7 @@ def radius_table_html(table: RadiusTable, escape: Any) -> str:
     Parameters
     ----------
     table : RadiusTable
-        From :func:`camtol.radius_table.radius_table`.
+        From :func:`camtol.analysis.radius_table.radius_table`.
     escape : callable
         HTML escaping of the header texts.
 

@@ -17,19 +17,20 @@ from typing import Any
 
 import numpy as np
 
-from camtol import __version__
-from camtol.analysis import Analysis
-from camtol.design import IT_CONVENTIONS, ResolvedTolerance
-from camtol.extremes import Extreme
+from camtol._version import __version__
+from camtol.analysis.extremes import Extreme
+from camtol.analysis.kinematics import beyond_pressure_angle_limit
+from camtol.analysis.result import Analysis
+from camtol.analysis.summary import STANDARD_GRAVITY, CamGeometry
+from camtol.design.cam_design import IT_CONVENTIONS, ResolvedTolerance
 from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
-from camtol.kinematics import beyond_pressure_angle_limit
 from camtol.report.csv_text import csv_text
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
-from camtol.summary import STANDARD_GRAVITY, CamGeometry
 
 __all__ = [
+    "atomic_write_text",
     "SCHEMA_VERSION",
     "accuracy_json",
     "analysis_json",
@@ -38,7 +39,6 @@ __all__ = [
     "curves_columns",
     "print_analysis",
     "write_curves_csv",
-    "atomic_write_text",
 ]
 
 
@@ -70,7 +70,7 @@ def motion_units(a: Analysis) -> tuple[str, str, str, str]:
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
 
     Returns
     -------
@@ -93,7 +93,7 @@ def motion_curves(a: Analysis) -> tuple[np.ndarray[Any, Any], ...]:
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse`.
+        Result of :func:`camtol.analysis.result.analyse`.
 
     Returns
     -------
@@ -222,7 +222,7 @@ def analysis_json(a: Analysis) -> dict[str, Any]:
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
 
     Returns
     -------
@@ -283,7 +283,7 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
 
     Returns
     -------
@@ -331,26 +331,13 @@ def curves_columns(a: Analysis) -> dict[str, np.ndarray[Any, Any]]:
     return cols
 
 
-def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write a text file atomically (see :mod:`camtol.files`).
-
-    Parameters
-    ----------
-    path : str or Path
-        File to write; replaced if it exists.
-    text : str
-        Content, written as UTF-8 with newlines as given.
-    """
-    atomic_write(path, text)
-
-
 def write_curves_csv(a: Analysis, path: str | Path) -> None:
     """Write one row per grid angle (a segment boundary appears twice: left, right limit).
 
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
     path : str or Path
         CSV file to write; replaced if it exists.
     """
@@ -359,7 +346,7 @@ def write_curves_csv(a: Analysis, path: str | Path) -> None:
     cols = curves_columns(a)
     require_finite_columns(cols, where=str(path))
     data = np.column_stack(list(cols.values()))
-    atomic_write_text(path, csv_text(list(cols), data))
+    atomic_write(path, csv_text(list(cols), data))
 
 
 def _fmt(v: float) -> str:
@@ -466,7 +453,7 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
     Parameters
     ----------
     a : Analysis
-        Result of :func:`camtol.analysis.analyse` for the design.
+        Result of :func:`camtol.analysis.result.analyse` for the design.
     console : rich.console.Console, optional
         Console to print to; by default a new one on standard output (80 columns when
         not a terminal).
@@ -543,3 +530,16 @@ def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -
         con.print(f"Note: {note}.", style="yellow", markup=False)
     if verbose:
         con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim", markup=False)
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write a text file atomically (see :mod:`camtol.files`).
+
+    Parameters
+    ----------
+    path : str or Path
+        File to write; replaced if it exists.
+    text : str
+        Content, written as UTF-8 with newlines as given.
+    """
+    atomic_write(path, text)

@@ -24,7 +24,7 @@ from camtol.report.display import DisplayUnits, output_error_unit
 from camtol.report.units import pretty_unit
 
 if TYPE_CHECKING:  # pragma: no cover
-    from camtol.design import CamDesign
+    from camtol.design.cam_design import CamDesign
     from camtol.tolerancing.distributions import ResolvedDistribution
     from camtol.tolerancing.processes import ProfileProcess
     from camtol.tolerancing.results import (

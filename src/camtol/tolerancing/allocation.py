@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camtol import iso286
-from camtol.design import CamDesign, ResolvedTolerance, ToleranceSpec
+from camtol.design.cam_design import CamDesign, ResolvedTolerance, ToleranceSpec
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
@@ -263,7 +263,8 @@ def _allocate(
     model: StatisticalModel | None,
     step_deg: float,
 ) -> Allocation:
-    from camtol.tolerancing.montecarlo import monte_carlo, prepare, sample_matrix
+    from camtol.tolerancing.montecarlo import monte_carlo
+    from camtol.tolerancing.study import prepare, sample_matrix
 
     if criterion not in ("worst_case", "rss", "monte_carlo"):
         raise DesignError(
@@ -299,7 +300,7 @@ def _allocate(
         _with_grades(design, keys, (grades[0],) * len(keys)), model=model, step_deg=step_deg
     )
     curves = None if band is None else band_curves(band, base.theta_rad)
-    from camtol.analysis import max_radius_mm
+    from camtol.analysis.result import max_radius_mm
 
     rmax = max_radius_mm(design)
     # dev[k, i]: deviation of source k at grade i (internal units).

@@ -89,7 +89,7 @@ def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism, 
             errs[lab].append(FourierError(float(x[j])))
         elif lab == "phase":
             # The cam sits late by Δθ0: the follower sees the cam at θ − Δθ0 (THEORY §3,
-            # camtol.sources.AngularPhase), exactly, whatever the other errors.
+            # camtol.design.sources.AngularPhase), exactly, whatever the other errors.
             phase = float(x[j])
         elif lab in own:
             mech = perturbed(mech, lab, float(x[j]))
@@ -185,7 +185,7 @@ def run_exact(
         The exact statistics (internal units: mm or rad) and their difference from the
         linear ones on the same samples.
     """
-    from camtol.tolerancing.montecarlo import (
+    from camtol.tolerancing.study import (
         comparison_rows,
         sample_matrix,
         source_models,

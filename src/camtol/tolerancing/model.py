@@ -11,7 +11,7 @@ A design file may carry an optional ``[statistics]`` table (docs/tolerancing.md)
     sigma_um = 2.0
     correlation_deg = 10.0  # or: harmonics = [{ order = 2, amplitude_um = 1.5 }]
 
-:mod:`camtol.config` passes the raw table through (``CamDesign.extras["statistics"]``);
+:mod:`camtol.config.design_file` passes the raw table through (``CamDesign.extras["statistics"]``);
 :func:`statistical_model` parses it here with a pydantic schema. The model is kept beside
 the design rather than in it, so designs without the table are untouched.
 """
@@ -25,7 +25,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from camtol.design import CamDesign
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import ConfigError
 from camtol.tolerancing.distributions import SourceDistribution
 from camtol.tolerancing.processes import ProfileProcess
@@ -199,7 +199,7 @@ def statistical_model(design: CamDesign) -> StatisticalModel:
     Parameters
     ----------
     design : CamDesign
-        A design, as loaded by :func:`camtol.config.load_design` (the raw table is in
+        A design, as loaded by :func:`camtol.config.design_file.load_design` (the raw table is in
         ``design.extras["statistics"]``).
 
     Returns

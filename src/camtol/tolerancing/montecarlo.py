@@ -19,37 +19,35 @@ import math
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
-from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
-from camtol.design import CamDesign
+import camtol.tolerancing.linear as lin
+from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
-from camtol.kinematics import analysis_grid
-from camtol.tolerancing import linear as lin
 from camtol.tolerancing.band import ToleranceBand, band_curves, band_label
-from camtol.tolerancing.distributions import ResolvedDistribution
-from camtol.tolerancing.model import StatisticalModel, statistical_model
+from camtol.tolerancing.model import StatisticalModel
 from camtol.tolerancing.plan import (
     CHUNK,
     Quantity,
-    SamplingPlan,
-    chunk_uniforms,
-    make_plan,
-    sensitivity_matrices,
 )
-from camtol.tolerancing.processes import ProfileProcess
 from camtol.tolerancing.results import (
     AngleStatistics,
-    ComparisonRow,
     Contribution,
     MonteCarloResult,
     Summary,
     YieldEstimate,
     spec_limits,
+)
+from camtol.tolerancing.study import (
+    Study,
+    comparison_rows,
+    prepare,
+    source_models,
+    variance_shares,
+    worst_angle,
 )
 
 __all__ = ["Mode", "Study", "monte_carlo", "prepare"]
@@ -61,79 +59,6 @@ MAX_LINEAR_SAMPLES = 10**10
 #: Largest memory the exact mode may use for its sample curves. [bytes]
 MAX_EXACT_BYTES = 2 * 2**30
 Progress = Callable[[int, int], None]
-
-
-@dataclass(frozen=True)
-class Study:
-    """A design prepared for sampling (grid, tolerances, plan, sensitivities).
-
-    Attributes
-    ----------
-    design : CamDesign
-        The design.
-    theta_rad : ndarray
-        Cam angles of the grid. [rad]
-    left_limit : ndarray of bool
-        Rows taking left limits at segment boundaries.
-    plan : SamplingPlan
-        Columns of the sample matrix.
-    sens : dict of str to ndarray
-        Sensitivities of ΔS, ΔV, ΔA to every column, shape (angles, columns).
-    unit : str
-        Internal unit of ΔS: ``mm`` (translating follower) or ``rad`` (oscillating).
-    """
-
-    design: CamDesign
-    theta_rad: FloatArray
-    left_limit: NDArray[np.bool_]
-    plan: SamplingPlan
-    sens: dict[str, FloatArray]
-    unit: str
-
-
-def prepare(
-    design: CamDesign, *, model: StatisticalModel | None = None, step_deg: float = 0.1
-) -> Study:
-    """Grid, resolved tolerances, sampling plan and sensitivities of a design.
-
-    Parameters
-    ----------
-    design : CamDesign
-        The design; its ``[statistics]`` table gives the model unless ``model`` is given.
-    model : StatisticalModel, optional
-        Distributions and process.
-    step_deg : float
-        θ grid step. [deg]
-
-    Raises
-    ------
-    DesignError
-        No toleranced source and no process, or an invalid model.
-    GeometryError, UndercutError
-        A cam of the design cannot produce its motion.
-
-    Notes
-    -----
-    A conjugate pair is sampled through cam A, whose contact carries the pair's error
-    sources: the output error ``analyze`` computes (THEORY §4); both cams are checked.
-    """
-    from camtol.analysis import max_radius_mm
-    from camtol.validity import check_design_geometry
-
-    # Every cam, whatever the grid (as analyze): a pair whose cam B cannot work fails.
-    check_design_geometry(design)
-    name = design.name
-    design = design.cams()[0].design  # cam A of a pair (the design itself otherwise)
-    model = statistical_model(design) if model is None else model
-    theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
-    tolerances = design.resolve_tolerances(max_radius_mm(design))
-    plan = make_plan(design, model, tolerances)
-    if plan.columns == 0:
-        raise DesignError(
-            f"design {name!r} has no [tolerances] and no profile process: nothing to sample"
-        )
-    sens = sensitivity_matrices(design, plan, theta, left)
-    return Study(design, theta, left, plan, sens, design.mechanism.output_unit)
 
 
 def _check_samples(samples: int, mode: Mode, angles: int) -> None:
@@ -354,60 +279,6 @@ def _summary_from_hist(counts: lin.IntArray, top: float, mean: float, std: float
     return Summary(mean, std, float(q[0][0]), float(q[1][0]), float(q[2][0]))
 
 
-def variance_shares(study: Study) -> dict[str, FloatArray]:
-    """Variance share of each source at every angle (linear model: g² Var / Σ g² Var)."""
-    g = study.sens["lift"]
-    part = g * g * study.plan.column_variance()[None, :]
-    total = part.sum(axis=1)
-    safe = np.where(total > 0, total, 1.0)
-    return {
-        lab: np.where(total > 0, part[:, a:b].sum(axis=1) / safe, 0.0)
-        for lab, (a, b) in zip(study.plan.labels, study.plan.groups, strict=True)
-    }
-
-
-def worst_angle(
-    q_low: FloatArray, q_high: FloatArray, band: tuple[FloatArray, FloatArray] | None
-) -> int:
-    """Index of the angle of the worst spec margin (largest |quantile| without a band)."""
-    if band is None:
-        return int(np.argmax(np.maximum(np.abs(q_low), np.abs(q_high))))
-    return int(np.argmin(np.minimum(band[1] - q_high, q_low - band[0])))
-
-
-def comparison_rows(
-    study: Study, label_q9973: list[float], combined_mc: float
-) -> tuple[ComparisonRow, ...]:
-    """Worst case, RSS and MC 99.73 % per source and combined. [mm or rad]"""
-    g = study.sens["lift"]
-    per = np.zeros((g.shape[0], len(study.plan.labels)))
-    for j, ((a, b), d) in enumerate(zip(study.plan.groups, study.plan.deviations, strict=True)):
-        if b - a == 1:
-            per[:, j] = np.abs(g[:, a]) * d
-    if study.plan.process is not None:
-        # The process column group: the target's sensitivity times its 3σ or Σ amplitudes.
-        from camtol.design import ResolvedTolerance
-        from camtol.errors import error_analysis
-
-        p = study.plan.process
-        unit_t = (ResolvedTolerance(p.target, 1.0, "mm", "unit"),)
-        st = error_analysis(study.design, unit_t, study.theta_rad, left_limit=study.left_limit)
-        per[:, -1] = np.abs(st.sources[p.target].sensitivity) * study.plan.deviations[-1]
-    rows = [
-        ComparisonRow(lab, float(per[:, j].max()), float(per[:, j].max()), label_q9973[j])
-        for j, lab in enumerate(study.plan.labels)
-    ]
-    rows.append(
-        ComparisonRow(
-            "combined",
-            float(per.sum(axis=1).max()),
-            float(np.sqrt((per * per).sum(axis=1)).max()),
-            combined_mc,
-        )
-    )
-    return tuple(rows)
-
-
 def _linear_result(
     study: Study,
     spec: lin.LinearSpec,
@@ -480,33 +351,3 @@ def _linear_result(
             " value), normal σ = Δ/(3 Cp) truncated at the zone",
         ),
     )
-
-
-def source_models(study: Study) -> dict[str, ResolvedDistribution | ProfileProcess]:
-    """Each label's distribution (internal units, :attr:`ResolvedDistribution.unit`).
-
-    Parameters
-    ----------
-    study : Study
-        The prepared design.
-
-    Returns
-    -------
-    dict of str to ResolvedDistribution or ProfileProcess
-        By label, in report order; the profile process last.
-    """
-    out: dict[str, ResolvedDistribution | ProfileProcess] = {}
-    for j, d in enumerate(study.plan.distributions):
-        out[study.plan.labels[j]] = d
-    if study.plan.process is not None:
-        out[study.plan.labels[-1]] = study.plan.process
-    return out
-
-
-def sample_matrix(plan: SamplingPlan, seed: int, samples: int) -> FloatArray:
-    """All sample rows of a (small) study, chunk by chunk. [mm or rad]"""
-    rows = []
-    for c in range(-(-samples // CHUNK)):
-        size = min(CHUNK, samples - c * CHUNK)
-        rows.append(plan.sample(chunk_uniforms(seed, c, size, plan.uniforms)))
-    return np.vstack(rows)

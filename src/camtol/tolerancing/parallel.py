@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import camtol.tolerancing.linear as lin
 from camtol.exceptions import DesignError
-from camtol.tolerancing import linear as lin
 
 __all__ = ["run_on_dask"]
 

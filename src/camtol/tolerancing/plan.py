@@ -2,7 +2,7 @@
 
 Linear model: ΔS(θ) = Σ_j g_j(θ) x_j, with x the sample row (one column per constant
 error source, two per Fourier order of a profile process) and g_j(θ) the closed-form
-sensitivity (:func:`camtol.errors.error_analysis` at a unit deviation), times cos kψ(θ)
+sensitivity (:func:`camtol.analysis.errors.error_analysis` at a unit deviation), times cos kψ(θ)
 or sin kψ(θ) for the process columns, ψ(θ) being the polar angle of the contact point
 (:func:`camtol.tolerancing.processes.contact_polar_angle`).
 
@@ -20,8 +20,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from camtol.design import CamDesign, ResolvedTolerance
-from camtol.errors import error_analysis
+from camtol.analysis.errors import error_analysis
+from camtol.design.cam_design import CamDesign, ResolvedTolerance
 from camtol.jet import FloatArray
 from camtol.tolerancing.distributions import ResolvedDistribution
 from camtol.tolerancing.model import StatisticalModel

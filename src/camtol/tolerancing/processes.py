@@ -26,10 +26,10 @@ from typing import Literal
 import numpy as np
 
 from camtol import jet
+from camtol.design.motion import MotionProgram
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import Mechanism
-from camtol.motion import MotionProgram
 
 __all__ = ["ContactAngleError", "ProcessTarget", "ProfileProcess", "contact_polar_angle"]
 

@@ -1,0 +1,402 @@
+"""``camtol inspect``: a machined cam checked from a CMM scan (issue 12; THEORY §2, §3, §5).
+
+Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 1 when the cam fails
+its profile tolerance, 0 when it passes, 2 on bad input (nothing written then).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from camtol.cli.common import (
+    EXIT_FAIL,
+    EXIT_OK,
+    _Exit,
+    check_output_path,
+    echo_json,
+    fail,
+    load_input,
+    run_guarded,
+)
+from camtol.cli.options import Number, design_options, step_option
+from camtol.cli.records import check_store_options, store_options
+
+if TYPE_CHECKING:
+    from camtol.inspection.registration import Datum
+
+__all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
+
+
+def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float, ...]:
+    """Parse ``count`` comma-separated finite numbers, or end with a usage error.
+
+    Parameters
+    ----------
+    text : str
+        The option's value.
+    count : int
+        How many numbers.
+    option : str
+        The option's name, for the message.
+    what : str
+        What to give, e.g. ``"X,Y in mm"``.
+    """
+    try:
+        vals = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != count or not all(math.isfinite(v) for v in vals):
+        fail(f"{option}={text!r} is not allowed; give {what}")
+    return vals
+
+
+def parse_columns(text: str | None) -> dict[str, str] | None:
+    """Parse ``--columns X=x_mm,Y=y_mm`` into a header mapping.
+
+    Parameters
+    ----------
+    text : str or None
+        The option's value (None: no mapping).
+    """
+    if text is None:
+        return None
+    out: dict[str, str] = {}
+    for part in text.split(","):
+        name, sep, target = part.partition("=")
+        if not sep or not name.strip() or not target.strip():
+            fail(f"--columns={text!r} is not allowed; give NAME=column pairs such as X=x_mm,Y=y_mm")
+        out[name.strip()] = target.strip()
+    return out
+
+
+def parse_datum(text: str, angle: float | None, point: str | None, loss: str) -> Datum:
+    """Build the registration :class:`~camtol.inspection.registration.Datum` from options.
+
+    Parameters
+    ----------
+    text : str
+        ``--datum``: fit, fit-rotation, bore, centre:X,Y or centre:X,Y,DEG. [mm, deg]
+    angle : float or None
+        ``--datum-angle``. [deg]
+    point : str or None
+        ``--datum-point`` X,Y,DEG. [mm, mm, deg]
+    loss : str
+        ``--loss``.
+    """
+    from camtol.inspection.registration import Datum
+
+    centre = None
+    mode = text
+    if text.startswith("centre:") or text.startswith("center:"):
+        values = text.split(":", 1)[1]
+        if values.count(",") == 2:  # centre:X,Y,DEG: centre and stated angle at once
+            x, y, a = parse_numbers(values, 3, "--datum", "centre:X,Y or centre:X,Y,DEG")
+            if angle is not None:
+                fail(f"--datum={text!r} states the angle already; leave out --datum-angle")
+            angle = a
+        else:
+            x, y = parse_numbers(values, 2, "--datum", "centre:X,Y or centre:X,Y,DEG (mm, deg)")
+        mode, centre = "centre", (x, y)
+    if mode not in ("fit", "fit-rotation", "bore", "centre"):
+        fail(f"--datum={text!r} is not allowed; use fit, fit-rotation, bore or centre:X,Y (mm)")
+    pt = pt_angle = None
+    if point is not None:
+        x, y, a = parse_numbers(point, 3, "--datum-point", "X,Y,DEG (mm, mm, nominal degrees)")
+        pt, pt_angle = (x, y), a
+    if angle is not None and not math.isfinite(angle):
+        fail(f"--datum-angle={angle!r} must be a finite number of degrees")
+    return Datum(
+        mode=mode,  # type: ignore[arg-type]
+        centre_mm=centre,
+        angle_deg=angle,
+        point_mm=pt,
+        point_angle_deg=pt_angle,
+        loss=loss,  # type: ignore[arg-type]
+    )
+
+
+@click.command()
+@design_options
+@click.option(
+    "--points",
+    "points_path",
+    required=True,
+    metavar="FILE.csv",
+    help="CMM point file: columns x_mm, y_mm [, z_mm, bore, cam] (units in names).",
+)
+@click.option(
+    "--cam",
+    type=click.Choice(["A", "B"]),
+    default="A",
+    show_default=True,
+    help="Which cam of a conjugate pair the scan is.",
+)
+@click.option(
+    "--stylus-radius-mm",
+    "stylus_mm",
+    type=Number(low=0, unit="mm"),
+    default=0.0,
+    show_default=True,
+    help="Stylus-ball radius: the points are ball centres, compensated along the"
+    " local normal (0: surface points) [mm].",
+)
+@click.option(
+    "--columns", metavar="NAME=col,...", help="Map the file's column names, e.g. X=x_mm,Y=y_mm."
+)
+@click.option(
+    "--datum",
+    "datum_text",
+    default="fit",
+    show_default=True,
+    metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
+    help="Registration: best fit (rotation+translation), rotation only, bore circle"
+    " (points flagged bore=1) or a given centre [mm] (and stated angle [deg]).",
+)
+@click.option(
+    "--datum-angle",
+    "datum_angle",
+    type=float,
+    metavar="DEG",
+    help="Stated rotation of the cam's reference radial in the CMM frame [deg]"
+    " (with bore or centre).",
+)
+@click.option(
+    "--datum-point",
+    "datum_point",
+    metavar="X,Y,DEG",
+    help="A datum point (keyway) in CMM mm at this nominal polar angle [deg].",
+)
+@click.option(
+    "--loss",
+    type=click.Choice(["soft_l1", "huber", "linear"]),
+    default="soft_l1",
+    show_default=True,
+    help="Robust loss of the best fit.",
+)
+@click.option(
+    "--tolerance-um",
+    "tolerance",
+    metavar="LO,HI",
+    help="Profile tolerance [µm] (default: the design's).",
+)
+@click.option(
+    "--tolerance-on",
+    "tolerance_on",
+    type=click.Choice(["dn", "dr"]),
+    help="Deviation the tolerance bounds: normal Δn or radial Δr (default: the design's"
+    " kind; dn for --tolerance-um).",
+)
+@click.option(
+    "--harmonics",
+    type=Number(low=1, integer=True),
+    default=100,
+    show_default=True,
+    help="Fourier cut-off smoothing Δn for the follower error.",
+)
+@step_option(help_text="Cam-angle step of the follower error [deg].", min_points=4)
+@click.option(
+    "--spec-um",
+    type=float,
+    help="Motion spec: largest allowed max |ΔS| measured of a lift [µm]; the cam fails above it.",
+)
+@click.option(
+    "--spec-deg",
+    type=float,
+    help="Motion spec: largest allowed max |ΔS| measured of a swing [deg].",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.option(
+    "--curves",
+    metavar="FILE.csv",
+    help="Write x_mm, y_mm, theta_deg, dn_um, dr_um per measured point.",
+)
+@click.option(
+    "--motion",
+    metavar="FILE.csv",
+    help="Write theta_deg, dS_measured_<unit>, dS_linear_<unit> per cam angle.",
+)
+@click.option("--plot", metavar="FILE.png", help="Write the inspection figure (PNG/SVG/PDF).")
+@click.option("--report", "report_path", metavar="FILE.html", help="Write an HTML report.")
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing (exit status only).")
+@store_options
+def inspect(
+    design: str | None,
+    example: str | None,
+    points_path: str,
+    cam: str,
+    stylus_mm: float,
+    columns: str | None,
+    datum_text: str,
+    datum_angle: float | None,
+    datum_point: str | None,
+    loss: str,
+    tolerance: str | None,
+    tolerance_on: str | None,
+    harmonics: int,
+    step_deg: float,
+    spec_um: float | None,
+    spec_deg: float | None,
+    as_json: bool,
+    curves: str | None,
+    motion: str | None,
+    plot: str | None,
+    report_path: str | None,
+    quiet: bool,
+    **store_opts: str | None,
+) -> None:
+    """Inspect a machined cam from CMM points: registration, deviations, follower error.
+
+    Registers the scan to the nominal profile (datum frame or robust best fit, with
+    uncertainties), computes the normal deviation Δn of every point to the exact analytic
+    profile, the radial deviation Δr, the form and minimum zone, the verdict against the
+    profile tolerance with the failing angles, and the follower's motion error on the
+    measured cam (exact, and linear from Δn), judged against the motion spec
+    (--spec-um/--spec-deg) when given. Exit status 1 when the cam fails either.
+
+    With --store DB the inspected cam is recorded in an inspection store with the
+    traceability options (see `camtol records`): its Δr resampled onto the --step grid,
+    refused when the scan has a gap wider than 5 grid steps (docs/cmm-inspection.md).
+    """
+
+    def body() -> int:
+        check_output_path(curves, "--curves", [".csv"])
+        check_output_path(motion, "--motion", [".csv"])
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        check_output_path(report_path, "--report", [".html", ".htm"])
+        aliases = parse_columns(columns)
+        datum = parse_datum(datum_text, datum_angle, datum_point, loss)
+        tol = None
+        if tolerance is not None:
+            lo, hi = parse_numbers(tolerance, 2, "--tolerance-um", "LOWER,UPPER in µm")
+            tol = (lo, hi)
+        store = check_store_options(store_opts)
+        n_record = 0
+        if store is not None:
+            from camtol.grid import check_step
+
+            n_record = check_step(step_deg, name="--step", min_points=4)
+        from camtol.exceptions import GeometryError
+        from camtol.inspection.cmm import read_scan
+        from camtol.inspection.deviations import cam_profile, inspect_scan
+        from camtol.inspection.functional import functional_deviation
+        from camtol.report import inspection_report as rep
+
+        d = load_input(design, example)
+        prof = cam_profile(d, cam)  # type: ignore[arg-type]
+        from camtol.cli.tolerancing import parse_motion_spec
+
+        spec = parse_motion_spec(prof.mechanism.output, spec_um, spec_deg)
+        scan = read_scan(
+            points_path,
+            cam=cam,  # type: ignore[arg-type]
+            stylus_radius_mm=stylus_mm,
+            aliases=aliases,
+        )
+        kind = None if tolerance_on is None else ("normal" if tolerance_on == "dn" else "radial")
+        insp = inspect_scan(
+            d,
+            scan,
+            cam=cam,  # type: ignore[arg-type]
+            datum=datum,
+            tolerance_um=tol,
+            tolerance_kind=kind,  # type: ignore[arg-type]
+            profile=prof,
+        )
+        func = None
+        try:
+            func = functional_deviation(
+                prof, insp, step_deg=step_deg, harmonics=harmonics, spec=spec
+            )
+        except GeometryError as exc:
+            import warnings
+
+            warnings.warn(f"follower error not computed: {exc}", stacklevel=1)
+        data = rep.inspection_json(insp, func, design=d.name, stylus_radius_mm=stylus_mm)
+        for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
+            if wanted is not None and func is None:
+                fail(f"{opt}: the follower error could not be computed (see the warning)")
+        prepared = None
+        if store is not None:  # refuse a scan too sparse to record before writing anything
+            from camtol.cli.records import cmm_record, cmm_record_curve
+
+            prepared = cmm_record(
+                store_opts,
+                d,
+                design,
+                example,
+                cam=cam if len(d.cams()) > 1 else "",
+                dr_um=cmm_record_curve(insp, n_record),
+                verdict=str(data["verdict"]),
+                tolerance_um=insp.tolerance_um,
+                max_abs_ds_um=None
+                if func is None
+                else func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6),
+            )
+        fig = None
+        if plot or report_path:
+            from camtol.report.inspection_plots import inspection_figure
+
+            fig = inspection_figure(insp, prof, func)
+        if curves:
+            rep.write_curves_csv(insp, curves)
+        if motion and func is not None:
+            rep.write_motion_csv(func, motion)
+        if plot and fig is not None:
+            from camtol.files import atomic_output
+
+            with atomic_output(plot) as tmp:
+                fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
+        if report_path and fig is not None:
+            from camtol.files import atomic_write
+            from camtol.report.html import figure_svg
+
+            atomic_write(
+                report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp"))
+            )
+        record_id = None
+        if store is not None and prepared is not None:  # after every output file
+            from camtol.cli.records import add_records
+
+            record_id = add_records(store, *prepared)[0]
+        for w in () if quiet else insp.registration.warnings:  # -q: exit status only
+            click.echo(f"camtol: warning: {w}", err=True)
+        if as_json:
+            data["record_ids"] = [] if record_id is None else [record_id]  # in --store
+            echo_json(data, command="inspect")
+        elif not quiet:
+            for line in rep.inspection_text(data):
+                click.echo(line)
+        if record_id is not None and not quiet:
+            click.echo(f"recorded as id {record_id}", err=as_json)
+        return EXIT_OK if data["verdict"] == "pass" else EXIT_FAIL
+
+    raise _Exit(run_guarded(body))
+
+
+def cmm_comparison_lines(summary: dict[str, float]) -> list[str]:
+    """Text lines of the CMM-fixture comparison ([CW11] Table 4 figures, µm)."""
+    lines = [
+        f"CMM: rms Δr_A {summary['rms_dr_A_cmm_um']:.2f} µm,"
+        f" rms Δr_B {summary['rms_dr_B_cmm_um']:.2f} µm; fixture predicted from the CMM"
+        f" profiles: rms Δf {summary['rms_df_twin_um']:.2f} µm (exact),"
+        f" {summary['rms_df_est_um']:.2f} µm (eqs. 14-18)"
+    ]
+    if "rms_df_mea_um" in summary:
+        lines.append(
+            f"against Δf_mea (rms {summary['rms_df_mea_um']:.2f} µm): rms(Δf_est − Δf_mea)"
+            f" {summary['rms_df_est_minus_mea_um']:.2f} µm"
+            f" ({100 * summary['relative_deviation_df_est']:.2f}%), rms(Δf_twin − Δf_mea)"
+            f" {summary['rms_df_twin_minus_mea_um']:.2f} µm"
+            f" ({100 * summary['relative_deviation_df_twin']:.2f}%)"
+        )
+    if "rms_dr_A_est_minus_cmm_um" in summary:
+        lines.append(
+            "fixture estimates against the CMM (each with the other cam's CMM error as"
+            f" master): rms(Δr_A,est − Δr_A,CMM) {summary['rms_dr_A_est_minus_cmm_um']:.2f} µm,"
+            f" rms(Δr_B,est − Δr_B,CMM) {summary['rms_dr_B_est_minus_cmm_um']:.2f} µm"
+        )
+    return lines

@@ -1,0 +1,134 @@
+"""``camtol size``: the smallest base radius (and best offset) that makes a design work.
+
+Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 0 when a size is
+found, 2 on bad input or when no base radius can meet the requirements.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import click
+
+from camtol.cli.common import EXIT_OK, _Exit, echo_json, load_input, run_guarded
+from camtol.cli.options import Number, design_options, step_option
+
+__all__ = ["size"]
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def sizing_json(result: Any) -> dict[str, Any]:
+    """JSON-ready dict of a :class:`~camtol.analysis.sizing.SizingResult` (units in the keys)."""
+    return {
+        "base_radius_mm": round(result.base_radius_mm, 6),
+        "given_base_radius_mm": result.given_base_radius_mm,
+        "offset_mm": None if result.offset_mm is None else round(result.offset_mm, 6),
+        "limiting": result.limiting,
+        "pressure_angle_limit_deg": result.pressure_angle_limit_deg,
+        "min_radius_mm": result.min_radius_mm,
+        "cutter_radius_mm": result.cutter_radius_mm,
+        "tolerance_mm": result.tolerance_mm,
+        "cams": [
+            {
+                "cam": c.label or "cam",
+                "max_abs_pressure_angle_deg": round(c.max_abs_pressure_angle_deg, 4),
+                "pressure_angle_min_deg": round(c.pressure_angle_deg.min, 4),
+                "pressure_angle_max_deg": round(c.pressure_angle_deg.max, 4),
+                "min_convex_radius_mm": _finite(round(c.min_convex_radius_mm, 4)),
+                "min_convex_radius_at_deg": _finite(c.min_convex_radius_at_deg),
+                "min_concave_radius_mm": _finite(round(c.min_concave_radius_mm, 4)),
+                "min_concave_radius_at_deg": _finite(c.min_concave_radius_at_deg),
+            }
+            for c in result.cams
+        ],
+    }
+
+
+@click.command()
+@design_options
+@click.option(
+    "--pressure-angle-limit",
+    "limit_deg",
+    type=Number(low=0, low_open=True, high=90, unit="deg"),
+    metavar="DEG",
+    help="Largest allowed |pressure angle| [deg] (default: the design's"
+    " operation.pressure_angle_limit_deg, else 90).",
+)
+@click.option(
+    "--min-radius",
+    "min_radius_mm",
+    type=Number(low=0, low_open=True, unit="mm"),
+    metavar="MM",
+    help="Smallest allowed convex radius of curvature of the profile [mm].",
+)
+@click.option(
+    "--cutter-radius",
+    "cutter_radius_mm",
+    type=Number(low=0, low_open=True, unit="mm"),
+    metavar="MM",
+    help="Cutter or wheel radius; concave stretches must be at least this flat [mm].",
+)
+@click.option(
+    "--optimise-offset",
+    is_flag=True,
+    help="Also choose the offset of a translating roller follower (smallest max |φ|).",
+)
+@step_option(max_points=360_000)
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def size(
+    design: str | None,
+    example: str | None,
+    limit_deg: float | None,
+    min_radius_mm: float | None,
+    cutter_radius_mm: float | None,
+    optimise_offset: bool,
+    step_deg: float,
+    as_json: bool,
+) -> None:
+    """Find the smallest base radius (and offset) meeting the pressure-angle and curvature limits.
+
+    Every other dimension and the motion are kept; every cam of the design is checked
+    (both cams of a conjugate pair).
+    """
+
+    def body() -> int:
+        from camtol.analysis.sizing import minimum_base_radius
+
+        d = load_input(design, example)
+        r = minimum_base_radius(
+            d,
+            pressure_angle_limit_deg=limit_deg,
+            min_radius_mm=min_radius_mm,
+            cutter_radius_mm=cutter_radius_mm,
+            optimise_offset=optimise_offset,
+            step_deg=step_deg,
+        )
+        if as_json:
+            echo_json(sizing_json(r), command="size")
+            return EXIT_OK
+        click.echo(f"design             {d.name}")
+        click.echo(
+            f"base radius r_b    {r.base_radius_mm:.3f} mm minimum"
+            f" (given {r.given_base_radius_mm:g} mm; resolution {r.tolerance_mm:g} mm)"
+        )
+        if r.offset_mm is not None:
+            click.echo(f"offset e           {r.offset_mm:.3f} mm (smallest max |φ|)")
+        click.echo(f"limited by         {r.limiting}")
+        for c in r.cams:
+            name = f"cam {c.label}" if c.label else "cam"
+            click.echo(
+                f"{name:<18} max |φ| {c.max_abs_pressure_angle_deg:.2f}°; min convex ρ"
+                f" {c.min_convex_radius_mm:.3f} mm"
+                + (
+                    f"; min concave ρ {c.min_concave_radius_mm:.3f} mm"
+                    if math.isfinite(c.min_concave_radius_mm)
+                    else "; no concave stretch"
+                )
+            )
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))

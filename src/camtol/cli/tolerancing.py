@@ -1,0 +1,487 @@
+"""``camtol montecarlo`` and ``camtol allocate``: statistical tolerance design (issue 11).
+
+Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 0 ok, 2 on bad input
+(one line on stderr, nothing written). Files and keys: docs/tolerancing.md.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import click
+
+from camtol.cli.common import (
+    EXIT_OK,
+    _Exit,
+    check_output_path,
+    echo_json,
+    fail,
+    load_input,
+    run_guarded,
+)
+from camtol.cli.options import Number, design_options, seed_option, step_option
+
+__all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
+
+
+@contextmanager
+def _progress(label: str, enabled: bool) -> Iterator[Callable[[int, int], None] | None]:
+    """Show a rich progress bar on stderr, only when stderr is a terminal."""
+    if not (enabled and sys.stderr.isatty()):
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import Progress
+
+    with Progress(console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(label, total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def parse_motion_spec(
+    output: str, spec_um: float | None, spec_deg: float | None, *, flag: str = "--spec"
+) -> float | None:
+    """Return the spec on max |ΔS| from ``<flag>-um`` / ``<flag>-deg``, or fail.
+
+    One rule for every command that takes a motion spec (``montecarlo``, ``allocate``,
+    ``inspect``, and ``report --mc-spec-um/-deg``): a lift in µm, a swing in degrees.
+
+    Parameters
+    ----------
+    output : str
+        The follower's output, ``"translating"`` or ``"oscillating"``.
+    spec_um, spec_deg : float or None
+        The flags' values. [µm, deg]
+    flag : str
+        The flags' common prefix, for the messages.
+
+    Returns
+    -------
+    float or None
+        The spec in mm (translating) or rad (oscillating); None when neither was given.
+    """
+    um, deg = f"{flag}-um", f"{flag}-deg"
+    if spec_um is not None and spec_deg is not None:
+        fail(f"give {um} or {deg}, not both")
+    if spec_um is not None:
+        if output == "oscillating":
+            fail(f"{um}={spec_um:g} is not allowed: the output of this cam is an angle; use {deg}")
+        if not (math.isfinite(spec_um) and spec_um > 0):
+            fail(f"{um}={spec_um!r} is not allowed; give a number of µm > 0")
+        return spec_um * 1e-3
+    if spec_deg is not None:
+        if output != "oscillating":
+            fail(f"{deg}={spec_deg:g} is not allowed: the output of this cam is a lift; use {um}")
+        if not (math.isfinite(spec_deg) and spec_deg > 0):
+            fail(f"{deg}={spec_deg!r} is not allowed; give a number of degrees > 0")
+        return math.radians(spec_deg)
+    return None
+
+
+def band_option(
+    design: Any,
+    band: str | None,
+    spec: float | None,
+    *,
+    flag: str = "--band",
+    spec_flag: str = "--spec",
+) -> Any:
+    """Read a band file option (None without it); refuse it together with a spec.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design (its output decides the file's unit: µm or degrees).
+    band : str or None
+        The option's value: a CSV file (docs/file-formats.md).
+    spec : float or None
+        The spec given by the ``<spec_flag>`` options, if any. [mm or rad]
+    flag, spec_flag : str
+        The option names, for the messages.
+
+    Returns
+    -------
+    ToleranceBand or None
+    """
+    if band is None:
+        return None
+    if spec is not None:
+        fail(f"give {flag} or {spec_flag}-um/{spec_flag}-deg, not both")
+    from camtol.tolerancing.band import read_band_csv
+
+    return read_band_csv(band, design.mechanism.output)
+
+
+def curves_csv(shown: Any) -> str:
+    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md).
+
+    Parameters
+    ----------
+    shown : MonteCarloDisplay
+        The study in display units (:func:`camtol.report.tolerancing_display.display_montecarlo`).
+
+    Returns
+    -------
+    str
+        The CSV text, ΔS columns in µm or degrees.
+    """
+    result = shown.result
+    s = shown.statistics["lift"]
+    u = s.unit
+    cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
+    cols += [f"share_{k}" for k in result.shares]
+    import numpy as np
+
+    from camtol.report.csv_text import csv_text
+
+    arrays = [result.theta_deg, s.mean, s.std, s.q00135, s.q50, s.q99865, *result.shares.values()]
+    return csv_text(cols, np.column_stack(arrays), digits=9)
+
+
+def _plot(shown: Any, path: str) -> None:
+    from pathlib import Path
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from camtol.files import atomic_output
+    from camtol.report.tolerancing import draw_limits
+
+    result = shown.result
+    s = shown.statistics["lift"]
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    t = result.theta_deg
+    ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
+    ax.plot(t, s.mean, label="mean")
+    ax.plot(t, s.q50, ":", label="median")
+    draw_limits(ax, shown)
+    ax.set_xlabel("cam angle θ [deg]")
+    ax.set_ylabel(f"ΔS [{s.unit}]")
+    ax.set_xlim(0, 360)
+    ax.set_title(f"{result.design_name}: Monte Carlo ({result.mode}, {result.samples} samples)")
+    ax.legend(loc="best")
+    fig.tight_layout()
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
+    plt.close(fig)
+
+
+def _print(shown: Any) -> None:
+    echo = click.echo
+    result = shown.result
+    s = shown.statistics["lift"]
+    u = s.unit
+    echo(
+        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
+        f" seed {result.seed}"
+    )
+    for k, v in shown.sources.items():
+        echo(f"  source {k:<10} {v}")
+    for q in ("velocity", "acceleration"):
+        if q in shown.statistics:
+            v = shown.statistics[q]
+            echo(
+                f"  max |d{q[0].upper()}| [{v.unit}]: mean {v.max_abs.mean:.4g},"
+                f" 99.865 % {v.max_abs.q99865:.4g}"
+            )
+    m = s.max_abs
+    echo(
+        f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
+        f" median {m.q50:.4g}, 99.865 % {m.q99865:.4g}"
+    )
+    y = result.yield_estimate
+    if y is not None:
+        echo(
+            f"  yield ({shown.yield_spec}): {y.value:.4%}"
+            f"  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
+    echo(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
+    for c in result.contributions:
+        echo(f"    {c.source:<12}{c.variance_share:>8.1%}")
+    echo(f"  {'source':<12}{'worst case':>12}{'RSS':>10}{'MC 99.73 %':>12}   [{u}]")
+    for r in shown.comparison:
+        echo(f"  {r.source:<12}{r.worst_case:>12.4g}{r.rss:>10.4g}{r.mc_9973:>12.4g}")
+    if shown.difference is not None:
+        d = shown.difference
+        echo(
+            f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
+            f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}"
+        )
+    for n in shown.notes:
+        echo(f"  note: {n}")
+
+
+@click.command()
+@design_options
+@click.option(
+    "--samples",
+    "-n",
+    type=Number(low=1, integer=True),
+    required=True,
+    help="Number of sampled mechanisms.",
+)
+@click.option("--mode", type=click.Choice(["linear", "exact"]), default="linear", show_default=True)
+@seed_option
+@click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um] (gives the yield).")
+@click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option(
+    "--band",
+    metavar="FILE.csv",
+    help="Band lower <= dS <= upper (theta_deg, lower_um, upper_um or _deg) for the yield.",
+)
+@step_option()
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.option("--curves", metavar="FILE.csv", help="Write per-angle statistics and shares.")
+@click.option("--plot", metavar="FILE.png", help="Write the band figure (PNG, SVG, PDF).")
+@click.option("--scheduler", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786.")
+@click.option(
+    "--workers",
+    type=Number(low=1, integer=True),
+    default=1,
+    show_default=True,
+    help="Local threads.",
+)
+@click.option(
+    "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."
+)
+def montecarlo(
+    design: str | None,
+    example: str | None,
+    samples: int,
+    mode: str,
+    seed: int,
+    spec_um: float | None,
+    spec_deg: float | None,
+    band: str | None,
+    step_deg: float,
+    as_json: bool,
+    curves: str | None,
+    plot: str | None,
+    scheduler: str | None,
+    workers: int,
+    derivatives: bool,
+) -> None:
+    """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions."""
+
+    def body() -> int:
+        check_output_path(curves, "--curves", [".csv"])
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        d = load_input(design, example)
+        spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
+        limits = band_option(d, band, spec)
+        from camtol.tolerancing import monte_carlo
+
+        with _progress("Monte Carlo", not as_json) as progress:
+            res = monte_carlo(
+                d,
+                samples,
+                mode=mode,  # type: ignore[arg-type]
+                seed=seed,
+                spec=spec,
+                band=limits,
+                quantities=("lift", "velocity", "acceleration") if derivatives else ("lift",),
+                step_deg=step_deg,
+                workers=workers,
+                scheduler=scheduler,
+                progress=progress,
+            )
+        from camtol.report.tolerancing_display import display_montecarlo
+
+        shown = display_montecarlo(res, d)
+        if curves:
+            from camtol.files import atomic_write
+
+            atomic_write(curves, curves_csv(shown))
+        if plot:
+            _plot(shown, plot)
+        if as_json:
+            echo_json(shown.to_dict(), command="montecarlo")
+        else:
+            _print(shown)
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))
+
+
+@click.command()
+@design_options
+@click.option("--spec-um", type=float, help="Spec on max |dS| of a lift [um].")
+@click.option("--spec-deg", type=float, help="Spec on max |dS| of a swing [deg].")
+@click.option(
+    "--band",
+    metavar="FILE.csv",
+    help="Band lower <= dS <= upper (theta_deg, lower_um, upper_um or _deg) instead of a spec.",
+)
+@click.option(
+    "--criterion",
+    type=click.Choice(["worst_case", "rss", "monte_carlo"]),
+    default="worst_case",
+    show_default=True,
+)
+@click.option(
+    "--yield",
+    "target_yield",
+    type=Number(low=0, low_open=True, high=1, high_open=True),
+    default=0.9973,
+    show_default=True,
+    help="Yield target of the monte_carlo criterion (0-1).",
+)
+@click.option("--grades", default="IT5-IT12", show_default=True, help="Grade range, e.g. IT5-IT12.")
+@click.option(
+    "--cost-exponent",
+    type=Number(low=0, low_open=True),
+    default=1.0,
+    show_default=True,
+    help="b in cost = sum a_k (T_coarsest/T_k)^b.",
+)
+@click.option(
+    "--cost",
+    "costs",
+    multiple=True,
+    metavar="KEY=A",
+    help="Cost coefficient a_k of a source (default 1), repeatable.",
+)
+@click.option(
+    "--samples",
+    type=Number(low=1, integer=True),
+    default=20000,
+    show_default=True,
+    help="Samples per candidate (monte_carlo) .",
+)
+@click.option(
+    "--verify-samples", type=Number(low=1, integer=True), default=20000, show_default=True
+)
+@seed_option
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+def allocate(
+    design: str | None,
+    example: str | None,
+    spec_um: float | None,
+    spec_deg: float | None,
+    band: str | None,
+    criterion: str,
+    target_yield: float,
+    grades: str,
+    cost_exponent: float,
+    costs: tuple[str, ...],
+    samples: int,
+    verify_samples: int,
+    seed: int,
+    as_json: bool,
+) -> None:
+    """Choose the coarsest (cheapest) IT grade per source that meets a spec."""
+
+    def body() -> int:
+        from camtol import iso286
+        from camtol.tolerancing import allocate as run
+
+        d = load_input(design, example)
+        spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
+        curves = band_option(d, band, spec)
+        if spec is None and curves is None:
+            fail(
+                "give the spec on max |dS|: --spec-um (lift) or --spec-deg (swing), or a band"
+                " (--band FILE.csv)"
+            )
+        lo, sep, hi = grades.partition("-")
+        try:
+            a, b = iso286.parse_grade(lo), iso286.parse_grade(hi if sep else lo)
+        except ValueError as exc:
+            fail(f"--grades={grades!r}: {exc}")
+        i, j = iso286.GRADES.index(a), iso286.GRADES.index(b)
+        if i > j:
+            fail(f"--grades={grades!r}: the finer grade comes first (e.g. IT5-IT12)")
+        coef: dict[str, float] = {}
+        for c in costs:
+            k, _, v = c.partition("=")
+            try:
+                coef[k] = float(v)
+            except ValueError:
+                fail(f"--cost={c!r}: give KEY=NUMBER, e.g. r=2")
+        res = run(
+            d,
+            spec,
+            band=curves,
+            criterion=criterion,  # type: ignore[arg-type]
+            grades=iso286.GRADES[i : j + 1],
+            target_yield=target_yield,
+            cost_exponent=cost_exponent,
+            cost_coefficients=coef,
+            samples=samples,
+            verify_samples=verify_samples,
+            seed=seed,
+        )
+        from camtol.report.display import DisplayUnits
+
+        shown = DisplayUnits.of(d)
+        unit, scale = shown.lift, shown.lift_scale
+        spec_shown = None if res.spec is None else res.spec * scale
+        # worst case and RSS in the display unit; a yield or a band ratio as it is
+        achieved = res.achieved
+        if res.criterion != "monte_carlo" and res.spec is not None:
+            achieved = res.achieved * scale
+        if as_json:
+            from camtol.report.tables import accuracy_json
+
+            out = {
+                "grades": res.grades,
+                "tolerances": [
+                    {
+                        "source": t.key,
+                        f"deviation_{'um' if t.unit == 'mm' else 'deg'}": (
+                            t.deviation * 1e3 if t.unit == "mm" else math.degrees(t.deviation)
+                        ),
+                        "origin": t.origin,
+                    }
+                    for t in res.deviations
+                ],
+                "criterion": res.criterion,
+                "spec": spec_shown,
+                "band": res.band,
+                "unit": unit,
+                "achieved": achieved,
+                "cost": res.cost,
+                "accuracy": accuracy_json(res.accuracy),
+                "yield": {"value": res.verified.value, "ci95": list(res.verified.ci95)},
+                "coarser_fails": res.coarser_fails,
+                "evaluated": res.evaluated,
+            }
+            echo_json(out, command="allocate")
+            return EXIT_OK
+        echo = click.echo
+        what_spec = (
+            f"band {res.band} (lower <= dS <= upper)"
+            if res.spec is None
+            else f"spec max |dS| <= {spec_shown:g} {unit}"
+        )
+        echo(f"camtol allocate: {d.name}, {what_spec}, criterion {res.criterion}")
+        for t in res.deviations:
+            echo(f"  {t.key:<6}{res.grades[t.key]:<6}{t.display}")
+        what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
+        if res.criterion == "monte_carlo":
+            val = f"{achieved:.4%}"
+        elif res.spec is None:
+            what += " / band half-width"
+            val = f"{achieved:.4g}"
+        else:
+            val = f"{achieved:.4g} {unit}"
+        echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
+        echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
+        y = res.verified
+        echo(
+            f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
+            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        )
+        return EXIT_OK
+
+    raise _Exit(run_guarded(body))

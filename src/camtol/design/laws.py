@@ -1,0 +1,220 @@
+"""Normalised motion laws s(x), x ∈ [0, 1], with derivatives (THEORY §1).
+
+Each law maps the segment's normalised angle x to the normalised lift s and its first
+three derivatives with respect to x; :class:`camtol.design.motion.Segment` scales them by the
+segment's height and duration.
+
+References
+----------
+.. [1] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed., Industrial Press,
+   2009, ch. 3 (modified trapezoid and modified sine laws).
+.. [2] H. A. Rothbart (ed.), *Cam Design Handbook*, McGraw-Hill, 2004.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Literal, get_args
+
+import numpy as np
+from numpy.typing import NDArray
+
+from camtol.exceptions import DesignError
+
+FloatArray = NDArray[np.float64]
+
+MotionLawName = Literal[
+    "cycloidal",
+    "simple_harmonic",
+    "polynomial_345",
+    "polynomial_4567",
+    "modified_trapezoid",
+    "modified_sine",
+    "constant_velocity",
+]
+MOTION_LAWS: tuple[str, ...] = get_args(MotionLawName)
+TWO_PI = 2.0 * math.pi
+
+__all__ = ["MOTION_LAWS", "MotionLawName", "NormalizedLaw", "normalized_law"]
+
+# ---------------------------------------------------------------------------------------
+# Normalised laws: s(x), v = ds/dx, a = d²s/dx², j = d³s/dx³, with s(0)=0, s(1)=1.
+# ---------------------------------------------------------------------------------------
+NormalizedLaw = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray, FloatArray]]
+
+
+def _cycloidal(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    w = TWO_PI * x
+    sin_w, cos_w = np.sin(w), np.cos(w)  # once each: transcendentals dominate the cost
+    return (
+        x - sin_w / TWO_PI,
+        1.0 - cos_w,
+        TWO_PI * sin_w,
+        TWO_PI**2 * cos_w,
+    )
+
+
+def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    w = math.pi * x
+    sin_w, cos_w = np.sin(w), np.cos(w)
+    return (
+        0.5 * (1.0 - cos_w),
+        0.5 * math.pi * sin_w,
+        0.5 * math.pi**2 * cos_w,
+        -0.5 * math.pi**3 * sin_w,
+    )
+
+
+def _polynomial(coefficients: Sequence[float]) -> NormalizedLaw:
+    """Return a law s(x) = Σ c_k x^k with its analytic derivatives."""
+    p0 = np.polynomial.Polynomial(coefficients)
+    polys = [tuple(float(c) for c in p.coef) for p in (p0, p0.deriv(1), p0.deriv(2), p0.deriv(3))]
+
+    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        s, v, a, j = (_horner(c, x) for c in polys)
+        return s, v, a, j
+
+    return law
+
+
+def _horner(coefficients: tuple[float, ...], x: FloatArray) -> FloatArray:
+    """Σ c_k x^k by Horner's rule in one array (numpy's polyval, without its temporaries).
+
+    The same operations in the same order as ``np.polynomial.polynomial.polyval``
+    (c ← c_k + c·x from the highest degree), hence the same numbers bit for bit (tested).
+    """
+    out = np.full(np.shape(x), coefficients[-1])
+    for c in reversed(coefficients[:-1]):
+        out *= x
+        out += c  # also c = 0: −0.0 + 0.0 is +0.0, as polyval gives it
+    return out
+
+
+@dataclass(frozen=True)
+class _SinePiece:
+    """Acceleration a(x) = c + q sin(k x + p) on [x0, x1), integrated exactly."""
+
+    x0: float
+    c: float
+    q: float
+    k: float
+    p: float
+    v0: float = 0.0
+    s0: float = 0.0
+
+    def evaluate(self, x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        d = x - self.x0
+        if self.k == 0.0:
+            a = np.full_like(x, self.c + self.q * math.sin(self.p))
+            return self.s0 + self.v0 * d + 0.5 * a * d * d, self.v0 + a * d, a, np.zeros_like(x)
+        ph = self.k * x + self.p
+        ph0 = self.k * self.x0 + self.p
+        sin_ph, cos_ph = np.sin(ph), np.cos(ph)  # once each: transcendentals dominate
+        a = self.c + self.q * sin_ph
+        j = self.q * self.k * cos_ph
+        v = self.v0 + self.c * d - self.q / self.k * (cos_ph - math.cos(ph0))
+        s = (
+            self.s0
+            + self.v0 * d
+            + 0.5 * self.c * d * d
+            - self.q / self.k * ((sin_ph - math.sin(ph0)) / self.k - math.cos(ph0) * d)
+        )
+        return s, v, a, j
+
+
+def _piecewise_sine_law(
+    pieces: Sequence[tuple[float, float, float, float, float]],
+) -> NormalizedLaw:
+    """Build a law from acceleration pieces (x0, c, q, k, p), normalised to s(1) = 1.
+
+    Velocity and displacement are carried exactly across piece ends, and the whole law
+    is then scaled so that s(1) = 1; the peak factors of Norton's tables (e.g. 4.8881 for
+    the modified trapezoid) follow from the shape instead of being typed in.
+    """
+    built: list[_SinePiece] = []
+    v0 = s0 = 0.0
+    for i, (x0, c, q, k, p) in enumerate(pieces):
+        piece = _SinePiece(x0, c, q, k, p, v0, s0)
+        built.append(piece)
+        x1 = pieces[i + 1][0] if i + 1 < len(pieces) else 1.0
+        s1, v1, _, _ = piece.evaluate(np.array([x1]))
+        s0, v0 = float(s1[0]), float(v1[0])
+    scale = 1.0 / s0
+    starts = np.array([pc.x0 for pc in built])
+
+    def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(built) - 1)
+        out = np.empty((4, *np.shape(x)))
+        for i, piece in enumerate(built):
+            rows = np.flatnonzero(idx == i)
+            if rows.size == 0:
+                continue
+            lo, hi = int(rows[0]), int(rows[-1]) + 1  # one run of rows (a sorted grid): a view
+            m: slice | NDArray[np.intp] = slice(lo, hi) if hi - lo == rows.size else rows
+            for arr, val in zip(out, piece.evaluate(x[m]), strict=True):
+                if isinstance(m, slice):
+                    np.multiply(val, scale, out=arr[m])  # straight into the block
+                else:
+                    arr[m] = val * scale
+        return out[0], out[1], out[2], out[3]
+
+    return law
+
+
+_FOUR_PI = 4.0 * math.pi
+# Modified trapezoid (Norton): sine ramps of 1/8 around constant-acceleration flats.
+_MODIFIED_TRAPEZOID = _piecewise_sine_law(
+    [
+        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
+        (0.125, 1.0, 0.0, 0.0, 0.0),
+        (0.375, 0.0, 1.0, _FOUR_PI, math.pi / 2 - _FOUR_PI * 0.375),
+        (0.625, -1.0, 0.0, 0.0, 0.0),
+        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
+    ]
+)
+# Modified sine (Norton): quarter-period sine of 1/8, then a sine three times longer.
+_MODIFIED_SINE = _piecewise_sine_law(
+    [
+        (0.0, 0.0, 1.0, _FOUR_PI, 0.0),
+        (0.125, 0.0, 1.0, _FOUR_PI / 3.0, math.pi / 2 - _FOUR_PI / 3.0 * 0.125),
+        (0.875, 0.0, -1.0, -_FOUR_PI, _FOUR_PI),
+    ]
+)
+
+
+def _constant_velocity(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    return x.copy(), np.ones_like(x), np.zeros_like(x), np.zeros_like(x)
+
+
+_LAWS: dict[str, NormalizedLaw] = {
+    "cycloidal": _cycloidal,
+    "simple_harmonic": _simple_harmonic,
+    "polynomial_345": _polynomial([0, 0, 0, 10, -15, 6]),
+    "polynomial_4567": _polynomial([0, 0, 0, 0, 35, -84, 70, -20]),
+    "modified_trapezoid": _MODIFIED_TRAPEZOID,
+    "modified_sine": _MODIFIED_SINE,
+    "constant_velocity": _constant_velocity,
+}
+
+
+def normalized_law(name: str) -> NormalizedLaw:
+    """Return the normalised law ``x -> (s, ds/dx, d²s/dx², d³s/dx³)``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`MOTION_LAWS`.
+
+    Raises
+    ------
+    DesignError
+        If the law is unknown.
+    """
+    try:
+        return _LAWS[name]
+    except KeyError:
+        raise DesignError(
+            f"motion law {name!r} is unknown; allowed: {', '.join(MOTION_LAWS)}"
+        ) from None

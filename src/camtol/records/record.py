@@ -1,0 +1,288 @@
+"""An inspection record: one inspected cam, as the store keeps it (an I/O edge's data).
+
+The design it was checked against (name and content hash), the part's traceability, the
+method, the verdict, the summary figures, the tolerance, the camtol version and the
+radial deviation curve Δr(θ) on a uniform grid, validated when made
+(:func:`make_record`). Pure data: :mod:`camtol.records.store` writes and reads it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from camtol.exceptions import RecordError
+from camtol.jet import FloatArray
+
+if TYPE_CHECKING:
+    from camtol.design.cam_design import CamDesign
+
+__all__ = [
+    "InspectionRecord",
+    "Method",
+    "Traceability",
+    "design_identity",
+    "make_record",
+]
+
+
+Float32Array = npt.NDArray[np.float32]
+Method = Literal["conjugate-fixture", "cmm"]
+METHODS: tuple[str, ...] = ("conjugate-fixture", "cmm")
+CAMS: tuple[str, ...] = ("A", "B", "")
+VERDICTS: tuple[str, ...] = ("pass", "fail")
+_CURVE = "dr_um"
+
+
+@dataclass(frozen=True)
+class Traceability:
+    """Who, what and when of an inspected part (free text, at most 200 characters each).
+
+    Attributes
+    ----------
+    part_number, serial, lot, inspector, instrument : str
+        The part's drawing number, its serial number, its production lot, who inspected it
+        and with which instrument (all optional, "" when unknown).
+    inspected_at : datetime, optional
+        When, as an aware date-time (converted to UTC); by default now.
+    """
+
+    part_number: str = ""
+    serial: str = ""
+    lot: str = ""
+    inspector: str = ""
+    instrument: str = ""
+    inspected_at: datetime | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class InspectionRecord:
+    """One inspected cam, as stored.
+
+    Attributes
+    ----------
+    id : int or None
+        The store's record number (None before it is stored).
+    design_name, design_hash : str
+        The design's name and content hash (``sha256:<64 hex digits>``).
+    method : str
+        ``conjugate-fixture`` or ``cmm``.
+    cam : str
+        ``A`` or ``B`` for a conjugate pair, ``""`` for a single cam.
+    part_number, serial, lot, inspector, instrument : str
+        Traceability.
+    inspected_at : datetime
+        When, in UTC (aware).
+    verdict : str
+        ``pass`` or ``fail``.
+    max_dev_um, min_dev_um, form_um : float
+        Max and min of Δr(θ) and their difference. [µm]
+    max_abs_ds_um : float or None
+        Largest |ΔS| of the follower motion measured on the part, when the method gives it
+        (in µm, or µrad for an oscillating follower). [µm]
+    tolerance_um : tuple of float
+        Radial tolerance (lower, upper) the verdict was taken against. [µm]
+    camtol_version : str
+        Version of camtol that made the record.
+    n_points : int
+        Number n of points of the deviation curve.
+    dr_um : ndarray of float32
+        Deviation curve Δr(θ) at θ_i = 360° i / n (empty when read without curves). [µm]
+    """
+
+    id: int | None
+    design_name: str
+    design_hash: str
+    method: str
+    cam: str
+    part_number: str
+    serial: str
+    lot: str
+    inspector: str
+    instrument: str
+    inspected_at: datetime
+    verdict: str
+    max_dev_um: float
+    min_dev_um: float
+    form_um: float
+    max_abs_ds_um: float | None
+    tolerance_um: tuple[float, float]
+    camtol_version: str
+    n_points: int
+    dr_um: Float32Array = field(repr=False)
+
+    @property
+    def theta_deg(self) -> FloatArray:
+        """The curve's cam angles, 360° i / n. [deg]"""
+        return np.asarray(np.arange(self.n_points) * (360.0 / self.n_points), dtype=np.float64)
+
+    def summary(self) -> dict[str, Any]:
+        """Return the record without its curve, as JSON-ready values (keys of docs/records.md)."""
+        return {
+            "id": self.id,
+            "design_name": self.design_name,
+            "design_hash": self.design_hash,
+            "method": self.method,
+            "cam": self.cam,
+            "part_number": self.part_number,
+            "serial": self.serial,
+            "lot": self.lot,
+            "inspector": self.inspector,
+            "instrument": self.instrument,
+            "inspected_at": self.inspected_at.isoformat(),
+            "verdict": self.verdict,
+            "max_dev_um": self.max_dev_um,
+            "min_dev_um": self.min_dev_um,
+            "form_um": self.form_um,
+            "max_abs_ds_um": self.max_abs_ds_um,
+            "tolerance_um": list(self.tolerance_um),
+            "camtol_version": self.camtol_version,
+            "n_points": self.n_points,
+        }
+
+
+def design_identity(design: CamDesign, source_text: str | None = None) -> tuple[str, str]:
+    r"""Name and content hash of a design: ``(name, "sha256:<hex>")``.
+
+    Uses ``design.content_hash`` (issue 8: the SHA-256 of the design's canonical content);
+    for a design object without it, the SHA-256 of its TOML text with line endings
+    normalised to ``\n`` and trailing blanks removed. The one place that defines a
+    record's design identity.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    source_text : str, optional
+        The design's TOML text (file contents or a built-in example's text).
+
+    Returns
+    -------
+    tuple of str
+        Design name and its hash.
+    """
+    own = getattr(design, "content_hash", None)
+    if isinstance(own, str) and own:
+        return design.name, own if own.startswith("sha256:") else f"sha256:{own}"
+    if source_text is None:
+        raise RecordError(
+            f"design {design.name!r}: its TOML text is needed to identify it in the store"
+        )
+    lines = [line.rstrip() for line in source_text.replace("\r\n", "\n").split("\n")]
+    canonical = "\n".join(lines).strip("\n") + "\n"
+    return design.name, "sha256:" + hashlib.sha256(canonical.encode("utf-8")).hexdigest()
+
+
+def _text(value: str, name: str) -> str:
+    if not isinstance(value, str) or len(value) > 200 or "\x00" in value:
+        raise RecordError(
+            f"{name}={value!r}: allowed is text of at most 200 characters without NUL"
+        )
+    return value
+
+
+def _utc(when: datetime | None) -> datetime:
+    if when is None:
+        return datetime.now(timezone.utc)
+    if when.tzinfo is None:
+        raise RecordError(f"inspected_at={when.isoformat()!r}: give a time zone (e.g. +00:00)")
+    return when.astimezone(timezone.utc)
+
+
+def make_record(
+    *,
+    design_name: str,
+    design_hash: str,
+    method: str,
+    cam: str,
+    dr_um: FloatArray,
+    verdict: str,
+    tolerance_um: tuple[float, float],
+    traceability: Traceability,
+    max_abs_ds_um: float | None = None,
+) -> InspectionRecord:
+    """Validate the parts of a record and compute its summary figures (not stored yet).
+
+    The curve is rounded to float32 first, so the summary describes exactly what is stored.
+
+    Parameters
+    ----------
+    design_name, design_hash : str
+        The design's identity (see :func:`design_identity`).
+    method : {"conjugate-fixture", "cmm"}
+        How the cam was inspected.
+    cam : {"A", "B", ""}
+        Which cam of a pair ("" for a single cam).
+    dr_um : ndarray
+        Radial deviation Δr(θ) on θ_i = 360° i / n. [µm]
+    verdict : {"pass", "fail"}
+        The inspection's verdict.
+    tolerance_um : tuple of float
+        Radial tolerance (lower, upper) of the verdict. [µm]
+    traceability : Traceability
+        Part number, serial, lot, inspector, instrument, date-time.
+    max_abs_ds_um : float, optional
+        Largest |ΔS| of the measured follower motion, when known. [µm]
+
+    Returns
+    -------
+    InspectionRecord
+        With ``id`` None.
+
+    Raises
+    ------
+    RecordError
+        A field outside what is allowed (named in the message).
+    """
+    from camtol._version import __version__
+
+    if method not in METHODS:
+        raise RecordError(f"method={method!r}: allowed {', '.join(METHODS)}")
+    if cam not in CAMS:
+        raise RecordError(f"cam={cam!r}: allowed 'A', 'B' or '' (a single cam)")
+    if verdict not in VERDICTS:
+        raise RecordError(f"verdict={verdict!r}: allowed 'pass' or 'fail'")
+    if not re.fullmatch(r"sha256:[0-9a-f]{64}", design_hash):
+        raise RecordError(f"design_hash={design_hash!r}: allowed 'sha256:' + 64 hex digits")
+    curve = np.ascontiguousarray(np.asarray(dr_um, dtype=np.float64).astype(np.float32))
+    if curve.ndim != 1 or curve.size < 1 or not np.all(np.isfinite(curve)):
+        raise RecordError(
+            "dr_um: allowed a 1-D array of finite deviations [µm] on a uniform grid over"
+            f" [0°, 360°); got shape {curve.shape}"
+        )
+    lo, hi = float(tolerance_um[0]), float(tolerance_um[1])
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise RecordError(f"tolerance_um={tolerance_um!r}: allowed [lower, upper], lower < upper")
+    if max_abs_ds_um is not None and not math.isfinite(max_abs_ds_um):
+        raise RecordError(f"max_abs_ds_um={max_abs_ds_um!r}: allowed a finite number or None")
+    t = traceability
+    hi_dev, lo_dev = float(curve.max()), float(curve.min())
+    return InspectionRecord(
+        id=None,
+        design_name=_text(design_name, "design_name"),
+        design_hash=design_hash,
+        method=method,
+        cam=cam,
+        part_number=_text(t.part_number, "part_number"),
+        serial=_text(t.serial, "serial"),
+        lot=_text(t.lot, "lot"),
+        inspector=_text(t.inspector, "inspector"),
+        instrument=_text(t.instrument, "instrument"),
+        inspected_at=_utc(t.inspected_at),
+        verdict=verdict,
+        max_dev_um=hi_dev,
+        min_dev_um=lo_dev,
+        form_um=hi_dev - lo_dev,
+        max_abs_ds_um=None if max_abs_ds_um is None else float(max_abs_ds_um),
+        tolerance_um=(lo, hi),
+        camtol_version=__version__,
+        n_points=int(curve.size),
+        dr_um=curve,
+    )
