@@ -90,6 +90,7 @@ MOVED_NAMES: dict[tuple[str, str], str] = {
             "write_indicator_csv",
         )
     },
+    ("camtol.tolerancing.model", "parse_statistics"): "camtol.config.statistics_table",
     ("camtol.contact", "Fixture"): "camtol.pair",
     ("camtol.contact", "simulate_fixture"): "camtol.pair",
 }

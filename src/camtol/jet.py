@@ -10,6 +10,11 @@ This is how camtol obtains the velocity and acceleration errors of THEORY §3.5 
 profile's radius of curvature *analytically*: the derivatives come from V, A and J of the
 motion law through the chain rule, evaluated one-sidedly at segment boundaries, so the
 jumps the papers describe are reproduced exactly instead of being smeared by a stencil.
+
+Why one module: it is one type, :class:`Jet`, and the elementary functions on it. Each
+function is the chain rule of one operation, written against the jet's private ``_chain``
+and its cached sine and cosine, and a mechanism needs the whole set to write a formula once
+for arrays and jets alike.
 """
 
 from __future__ import annotations

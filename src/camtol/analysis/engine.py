@@ -19,6 +19,12 @@ Long grids are evaluated in chunks (the mechanism's
 arrays, so the many intermediate arrays of the formulas stay in cache and never exist at
 full length: time and peak memory grow with what the result holds, not with the number
 of intermediate steps.
+
+Why one module: everything here serves the one loop of :func:`evaluate_engine` over the
+grid's chunks. :class:`_Columns` and :class:`_Spread` are where a chunk's rows land, the
+dwell chunks decide which rows are evaluated, and :func:`shared_dwells` keeps those for a
+pair's next cam; they pass the loop's private chunk types (``_Chunk``, ``_State``,
+``_Spread``) between them, which a split would have to publish between modules.
 """
 
 from __future__ import annotations

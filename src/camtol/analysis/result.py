@@ -5,6 +5,12 @@ derivatives per radian of cam angle (``mm/rad``, ``rad/rad2``). :class:`Analysis
 records the unit of every quantity (:attr:`Quantity.unit`). Display units (µm, degrees,
 per second at the design's cam speed) are the report layer's business
 (:mod:`camtol.report.display`), so nothing here is scaled for a reader.
+
+Why one module: it is :func:`analyse` and the result it returns. :class:`Analysis`,
+:class:`Quantity` and :class:`Curves` are the shape of that result; the extremes search
+(which reads :class:`Curves`' stored arrays to search a source's sensitivity, not its
+product) and the loop that confirms the tolerances at the refined radius are the steps that
+fill it, and :func:`max_radius_mm` is that same refined radius without an analysis.
 """
 
 from __future__ import annotations

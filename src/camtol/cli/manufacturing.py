@@ -263,69 +263,40 @@ def cut(
         import numpy as np
 
         from camtol.files import atomic_write
-        from camtol.grid import check_step
-        from camtol.manufacturing.cutting import coarsest_cut_step, simulate_cut
-        from camtol.manufacturing.toolpath import single_cams
+        from camtol.manufacturing.cut_study import CutStudyInputs, cut_study
         from camtol.report.csv_text import csv_text
         from camtol.report.finite import require_finite_columns
 
-        steps = _floats(cut_steps_text, "--cut-step")
-        for s in steps:
-            check_step(s, name="--cut-step", min_points=3)
-        if tool == "cylinder" and tool_radius_mm is None:
-            fail("--tool cylinder needs --tool-radius MM (wire EDM: wire radius + spark gap)")
-        if tool == "flat" and tool_radius_mm is not None:
-            fail("--tool-radius is only allowed with --tool cylinder")
-        if read_step_deg is not None:
-            check_step(read_step_deg, name="--read-step", min_points=3)
-            if read_step_deg > min(steps) * (1 + 1e-9):
-                fail(
-                    f"--read-step={read_step_deg:g} is not allowed; it must not be coarser than"
-                    f" the finest cutting step {min(steps):g}°"
-                )
+        inputs = CutStudyInputs(
+            cut_steps_deg=tuple(_floats(cut_steps_text, "--cut-step")),
+            tool="cylinder" if tool == "cylinder" else "flat",
+            tool_radius_mm=tool_radius_mm,
+            read_step_deg=read_step_deg,
+            cam=cam,
+            lift_tolerance=lift_tol,
+            accel_budget_pct=accel_budget_pct,
+            curves=curves_path is not None,
+        )
         guard_paths({"DESIGN": design}, {"--curves": curves_path})
         check_output_path(curves_path, "--curves", [".csv"])
-        d = load_checked(design, example)
-        cams = dict(single_cams(d))
-        one = cams.get(cam if len(cams) > 1 else "", d)
-        radius = tool_radius_mm or 0.0
-        kind: Any = tool
-        results = [
-            simulate_cut(one, s, tool=kind, tool_radius_mm=radius, read_step_deg=read_step_deg)
-            for s in steps
-        ]
+        study = cut_study(load_checked(design, example), inputs)
+        results, coarsest = study.results, study.coarsest_cut_step_deg
         oscillating = results[0].oscillating
-        coarsest = None
-        if lift_tol is not None or accel_budget_pct is not None:
-            tol = None
-            if lift_tol is not None:
-                tol = math.radians(lift_tol) if oscillating else lift_tol * 1e-3
-            coarsest = coarsest_cut_step(
-                one, tool=kind, tool_radius_mm=radius, lift_tolerance=tol,
-                accel_budget_pct=accel_budget_pct,
-            )  # fmt: skip
-        if curves_path is not None:
-            common = read_step_deg or min(r.read_step_deg for r in results)
-            again = [
-                simulate_cut(one, s, tool=kind, tool_radius_mm=radius, read_step_deg=common)
-                for s in steps
-            ]
+        if curves_path is not None and study.curves_theta_deg is not None:
             u = results[0].lift_error_unit
-            header = ["theta_deg"] + [f"lift_error_{u}_{s:g}deg" for s in steps]
-            data = np.column_stack(
-                [np.degrees(again[0].theta_rad)] + [r.lift_error_display for r in again]
-            )
+            header = ["theta_deg"] + [f"lift_error_{u}_{s:g}deg" for s in inputs.cut_steps_deg]
+            data = np.column_stack([study.curves_theta_deg, *study.curves_lift_error])
             require_finite_columns(dict(zip(header, data.T, strict=True)), where=curves_path)
             atomic_write(curves_path, csv_text(header, data))
         if as_json:
             doc: dict[str, Any] = {
-                "design": d.name,
-                "cam": cam if len(cams) > 1 else None,
+                "design": study.design_name,
+                "cam": study.cam,
                 "tool": tool,
                 "tool_radius_mm": tool_radius_mm,
                 "cuts": [_cut_json(r) for r in results],
             }
-            if lift_tol is not None or accel_budget_pct is not None:
+            if inputs.has_criteria:
                 doc["lift_tolerance"] = lift_tol
                 doc["accel_budget_pct"] = accel_budget_pct
                 doc["coarsest_cut_step_deg"] = coarsest
@@ -335,7 +306,7 @@ def cut(
         lu = "°" if oscillating else "mm"
         pretty = "µm" if u == "um" else "°"
         what = "flat tool" if tool == "flat" else f"cylinder R = {tool_radius_mm:g} mm"
-        click.echo(f"camtol cut: {d.name}, {what}")
+        click.echo(f"camtol cut: {study.design_name}, {what}")
         click.echo(
             f"  {'step°':>6} {'read°':>7} {'max|ΔS| ' + pretty:>13} {'scallop µm':>11}"
             f" {'ρδ²/8 µm':>10} {'max|ΔA| 2nd diff':>17}   [{lu}/rad²]"
@@ -347,7 +318,7 @@ def cut(
                 f" {j[f'max_abs_lift_error_{u}']:>13.5g} {j['scallop_height_um']:>11.4g}"
                 f" {j['rule_rho_delta2_over_8_um']:>10.4g} {j['max_abs_dA_central']:>17.4g}"
             )
-        if lift_tol is not None or accel_budget_pct is not None:
+        if inputs.has_criteria:
             click.echo(
                 "  coarsest step meeting the criteria: "
                 + (f"{coarsest:g}°" if coarsest is not None else "none of the candidates")

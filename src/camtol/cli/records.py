@@ -8,7 +8,6 @@ a store written by a newer camtol, no matching records). Documented in docs/reco
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from datetime import datetime
 from pathlib import Path
@@ -19,7 +18,6 @@ import click
 from camtol.cli.common import EXIT_OK, _Exit, check_output_path, echo_json, fail, run_guarded
 
 if TYPE_CHECKING:
-    from camtol.records.lots import LotStatistics
     from camtol.records.store import InspectionRecord, InspectionStore
 
 __all__ = [
@@ -155,50 +153,6 @@ def show_record(record_id: int, store: str, as_json: bool, curves: str | None) -
     raise _Exit(run_guarded(body))
 
 
-def _sequence(recs: Sequence[InspectionRecord]) -> tuple[list[float], str]:
-    """Production order for the trend: integer serials when all have one, else time order."""
-    try:
-        return [float(int(r.serial)) for r in recs], "serial"
-    except ValueError:
-        return [float(i) for i in range(len(recs))], "inspection order"
-
-
-def _stats_json(
-    st: LotStatistics, recs: Sequence[InspectionRecord], basis: str, design: str, lot: str | None
-) -> dict[str, Any]:
-    def num(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-
-    return {
-        "design_name": design,
-        "lot": lot,
-        "cam": recs[0].cam,
-        "design_hashes": sorted({r.design_hash for r in recs}),
-        "methods": sorted({r.method for r in recs}),
-        "record_ids": [r.id for r in recs],
-        "n_parts": st.n_parts,
-        "n_points": int(st.theta_deg.size),
-        "record_n_points": sorted({r.n_points for r in recs}),
-        "tolerance_um": list(st.tolerance_um),
-        "mean_of_max_um": float(st.part_max_um.mean()),
-        "mean_of_min_um": float(st.part_min_um.mean()),
-        "envelope_max_um": float(st.max_um.max()),
-        "envelope_min_um": float(st.min_um.min()),
-        "max_std_um": num(float(st.std_um.max())),
-        "cp": num(st.cp),
-        "cpk_upper": num(st.cpk_upper),
-        "cpk_lower": num(st.cpk_lower),
-        "cpk": num(st.cpk),
-        "n_failing": st.n_failing,
-        "fraction_failing": st.fraction_failing,
-        "fraction_failing_ci": list(st.fraction_failing_ci),
-        "confidence": st.confidence,
-        "trend_basis": basis,
-        "trend_um_per_part": num(st.trend_um_per_part),
-        "trend_stderr_um_per_part": num(st.trend_stderr_um_per_part),
-    }
-
-
 @records.command("stats")
 @click.option("--store", "store", required=True, metavar="DB", help=_STORE_HELP)
 @click.option("--design", required=True, metavar="NAME", help="Design name of the records.")
@@ -236,41 +190,19 @@ def stats(
 
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
-        if not (math.isfinite(confidence) and 0.0 < confidence < 1.0):
-            fail(f"--confidence={confidence!r}: allowed a level between 0 and 1, e.g. 0.95")
-        from camtol.records.lots import lot_statistics
+        from camtol.records.lot_summary import summarise_lot
 
         with _open_existing(store) as s:
             recs = s.records(design=design, lot=lot, cam=_cam_filter(cam), with_curves=True)
-        recs = _of_method(recs, method)
-        where = f"--design={design!r}" + ("" if lot is None else f" --lot={lot!r}")
-        where += "" if method is None else f" --method={method}"
-        if not recs:
-            fail(f"{where}: no records match in the store (see `camtol records list`)")
-        cams = sorted({r.cam or "single" for r in recs})
-        if len(cams) > 1:
-            fail(f"{where}: records of cams {', '.join(cams)}; give --cam with one of them")
-        tols = sorted({r.tolerance_um for r in recs})
-        if len(tols) > 1:
-            fail(
-                f"{where}: records taken against different tolerances {tols} µm; select one"
-                " lot with --lot"
-            )
-        seq, basis = _sequence(recs)
-        st = lot_statistics(
-            [r.dr_um for r in recs],
-            tols[0],
-            [r.verdict == "fail" for r in recs],
-            sequence=seq,
-            confidence=confidence,
-        )
+        summary = summarise_lot(recs, design=design, lot=lot, method=method, confidence=confidence)
+        st = summary.statistics
         if curves:
             _write_csv(
                 curves,
                 ["theta_deg", "mean_um", "std_um", "max_um", "min_um"],
                 [st.theta_deg, st.mean_um, st.std_um, st.max_um, st.min_um],
             )
-        out = _stats_json(st, recs, basis, design, lot)
+        out = summary.to_dict()
         if as_json:
             echo_json(out, command="records stats")
         else:

@@ -37,6 +37,12 @@ Schema (see ``camtol examples show cw06-translating`` for a complete file)::
 
 Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillating ones
 (``lift_deg``).
+
+Why one module: it is the one mapping from a design file's fields to a
+:class:`~camtol.design.cam_design.CamDesign`. The pydantic schema says which fields exist
+and the builders below it (follower, motion, tolerances) check what the schema cannot and
+turn each table into its design object, naming fields by the same ``table.field`` paths in
+every message; the example and writer helpers are only re-exported here.
 """
 
 from __future__ import annotations
@@ -455,7 +461,7 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
     try:
         mech = _follower(top.follower)
         program = _motion_program(top.motion, mech.output == "oscillating", base_dir)
-        return CamDesign(
+        design = CamDesign(
             name=top.name,
             mechanism=mech,
             program=program,
@@ -467,6 +473,12 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             inspection=_inspection(top.inspection, base_dir),
             extras=_extras(top),
         )
+        raw = design.extras.get("statistics")
+        if isinstance(raw, Mapping):  # validated now, kept as the design's model
+            from camtol.config.statistics_table import parse_statistics
+
+            design.extras["statistics"] = parse_statistics(raw, design)
+        return design
     except ConfigError:
         raise
     except DesignError as exc:

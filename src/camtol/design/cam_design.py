@@ -414,6 +414,8 @@ def _canonical(x: Any) -> Any:
         return x
     if isinstance(x, float):
         return repr(float(x))
+    if callable(getattr(x, "to_mapping", None)):  # a table kept as read (e.g. [statistics])
+        return _canonical(x.to_mapping())
     if dataclasses.is_dataclass(x) and not isinstance(x, type):
         return {f.name: _canonical(getattr(x, f.name)) for f in dataclasses.fields(x)}
     if isinstance(x, dict):

@@ -9,6 +9,11 @@ Segment programs know their boundaries. At a boundary angle the value is taken f
 segment that *starts* there (right limit) unless the left limit is asked for, so that
 jumps of A and J are represented exactly rather than smeared.
 
+Why one module: it is the :class:`MotionProgram` interface and its two implementations,
+segments and a lift table, which the engine calls through one contract: ``evaluate`` with
+left limits at :attr:`~MotionProgram.boundaries_rad` and an optional (4, N) ``out`` block
+checked by one helper. The contract and both implementations of it change together.
+
 References
 ----------
 .. [1] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed., Industrial Press,

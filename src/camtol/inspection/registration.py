@@ -27,6 +27,11 @@ points kept.
 Outliers are points far from their neighbours' trend (a running median of Δn along the
 profile): more than ``k`` robust standard deviations (1.4826 × MAD) and more than a floor.
 They are excluded from the fit and reported by index, never silently dropped.
+
+Why one module: every part serves :func:`register`, the placement (φ, d) of the cam frame
+in the CMM frame. The datum says what is stated and what is fitted, the coarse search
+starts the fit, the IRLS and scipy solvers minimise the same normal deviations with the same
+Jacobian (``jac_rows``), and the outliers and uncertainties are those of that one fit.
 """
 
 from __future__ import annotations

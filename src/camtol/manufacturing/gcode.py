@@ -18,6 +18,11 @@ counterclockwise around the cam as θ grows, either
 :func:`read_gcode` reads such a program back (G00/G01/G02/G03 with X, Y, I, J), and
 :func:`path_deviation` measures the distance from the analytic path of points sampled
 *along* every block (between the block ends, not only at them), the check the tests use.
+
+Why one module: it is the G-code program of the cutter path, both ways. The fit makes the
+:class:`GcodePath` blocks :func:`write_gcode` prints, :func:`read_gcode` reads exactly that
+dialect back into the same blocks, and :func:`path_deviation` measures them against the same
+analytic path, so the writer's tolerance is checked on what it wrote.
 """
 
 from __future__ import annotations

@@ -4,6 +4,12 @@ A mechanism is a frozen dataclass of its nominal dimensions. Given the cam angle
 motion S(θ), V(θ) (plain arrays, or :class:`~camtol.jet.Jet` for exact derivatives) it
 returns the contact geometry (THEORY §2) and the closed-form sensitivities of the output
 to each error source (THEORY §3): ΔS_p = sensitivity_p · Δp.
+
+Why one module: it is the contract between a follower and the rest of camtol: the
+:class:`Mechanism` interface with the types its methods exchange (:class:`ErrorSource`,
+:class:`ContactGeometry`, :func:`shift_angle`), the checks every follower's
+``__post_init__`` calls, and the registry of follower types. Every follower module imports
+its base from here, and nothing here is about one follower.
 """
 
 from __future__ import annotations

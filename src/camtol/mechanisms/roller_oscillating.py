@@ -3,6 +3,11 @@
 The same closed forms serve cam A of a conjugate pair (a single oscillating roller cam is
 cam A alone) and, mirrored, cam B (:mod:`camtol.mechanisms.conjugate`).
 
+Why one module: it is the oscillating roller's closed forms (pitch point, pitch curvature,
+contact, general and lean sensitivities, reach check) and the follower class that applies
+them to cam A. The functions take ``side`` so that cam B of a conjugate pair reuses them
+mirrored, and the lean form is held equal to the general one, so they change together.
+
 References
 ----------
 .. [CW11] W.-T. Chang, L.-I. Wu, "A convenient and inexpensive quality control method for

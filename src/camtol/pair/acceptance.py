@@ -56,6 +56,45 @@ class AcceptanceBands:
     df_b_upper_um: FloatArray
     df_b_lower_um: FloatArray
 
+    def band_um(self, cam: str) -> tuple[FloatArray, FloatArray]:
+        """Return (upper, lower) of the band of inspected cam ``"A"`` or ``"B"``. [µm]
+
+        Parameters
+        ----------
+        cam : {"A", "B"}
+            The inspected cam (the other one is its master).
+
+        Returns
+        -------
+        (ndarray, ndarray)
+            Δf_cam(u),est and Δf_cam(l),est. [µm]
+
+        Raises
+        ------
+        ValueError
+            If ``cam`` is not "A" or "B".
+        """
+        if cam == "A":
+            return self.df_a_upper_um, self.df_a_lower_um
+        if cam == "B":
+            return self.df_b_upper_um, self.df_b_lower_um
+        raise ValueError(f"cam={cam!r} is not allowed; give 'A' or 'B'")
+
+    @staticmethod
+    def master_of(cam: str) -> str:
+        """Return the master cam that inspects ``cam`` on the fixture (A's is B, B's is A).
+
+        Parameters
+        ----------
+        cam : {"A", "B"}
+            The inspected cam.
+
+        Returns
+        -------
+        str
+        """
+        return "B" if cam == "A" else "A"
+
 
 def acceptance_bands(
     factors: ConjugateFactors,

@@ -23,6 +23,12 @@ The acceptance verdicts of :func:`~camtol.pair.fixture.inspect_conjugate` are ta
 on the mean record Δf_mea: a necessary condition on the mean (THEORY §4.3); the band
 Δf_mea ± u_f shows how far the record's scatter could move the estimates.
 
+Why one module: it is the fixture's indicator record from file to estimate. The
+:class:`IndicatorRecord` read and written here (its readings checked by the same helpers in
+the reader and the class) is what :func:`process_record` reduces to a
+:class:`ProcessedRecord`, and that record's Δf_mea ± u_f is what :func:`to_error_function`
+and :func:`record_estimates` take: each step consumes the previous step's type.
+
 References
 ----------
 .. [CW11] W.-T. Chang, L.-I. Wu, "A convenient and inexpensive quality control method for

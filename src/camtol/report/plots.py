@@ -11,6 +11,12 @@ analysis grid holds each segment boundary twice (left, then right limit), so a j
 velocity or acceleration error is drawn as a vertical step exactly at the boundary
 (THEORY §3.5), never smeared over a grid step.
 
+Why one module: it is the panels of the ``camtol analyze --plot`` figure and
+:func:`analysis_figure`, which lays them out; every panel draws the same
+:class:`~camtol.analysis.result.Analysis` (or its cam drawing) in the display units of
+:mod:`camtol.report.display`. The fixture's figures live in
+:mod:`camtol.report.plots_fixture` and are only re-exported here.
+
 References
 ----------
 .. [CW06] W.-T. Chang, L.-I. Wu, J. Mech. Sci. Technol. 20(3):345-357, 2006.

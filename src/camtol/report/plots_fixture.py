@@ -156,9 +156,9 @@ def profile_error_estimate_plot(
             arts += ax.plot(t, lo, color=colour, lw=0.7, ls="--")
     arts += ax.plot(t, est.dr_a_est_um, color=_COLOURS[0], label="Δr_A,est (master B)")
     arts += ax.plot(t, est.dr_b_est_um, color=_COLOURS[1], label="Δr_B,est (master A)")
-    for tol, colour, cam, style, x_text, ha in (
-        (tolerance_a_um, _COLOURS[0], "A", (0, (1, 2)), 1.0, "left"),
-        (tolerance_b_um, _COLOURS[1], "B", (3, (5, 3)), 359.0, "right"),
+    for tol, colour, cam, style, width, x_text, ha in (
+        (tolerance_a_um, _COLOURS[0], "A", (0, (1, 2)), 1.6, 1.0, "left"),
+        (tolerance_b_um, _COLOURS[1], "B", (3, (5, 3)), 1.1, 359.0, "right"),
     ):
         if tol is None:
             continue
@@ -168,7 +168,7 @@ def profile_error_estimate_plot(
                     value,
                     color=colour,
                     ls=style,
-                    lw=1.6 if cam == "A" else 1.1,
+                    lw=width,
                     gid=f"tolerance_{cam}_{('lower', 'upper')[j]}",
                     label=f"tolerance of cam {cam}: {tol[0]:g} .. {tol[1]:g} µm"
                     if j == 0
@@ -232,16 +232,11 @@ def acceptance_plot(
     ValueError
         If ``cam`` is not "A" or "B".
     """
-    if cam not in ("A", "B"):
-        raise ValueError(f"cam={cam!r} is not allowed; give 'A' or 'B'")
+    up, lo = inspection.bands.band_um(cam)
+    master = inspection.bands.master_of(cam)
     made_here = ax is None
     ax = _axes(ax)
     t = _fixture_theta(inspection)
-    b = inspection.bands
-    up, lo = (
-        (b.df_a_upper_um, b.df_a_lower_um) if cam == "A" else (b.df_b_upper_um, b.df_b_lower_um)
-    )
-    master = "B" if cam == "A" else "A"
     arts: list[Any] = [ax.fill_between(t, lo, up, color="#9ecae1", alpha=0.5, label="band")]
     arts += ax.plot(t, up, color="#08519c", lw=1.0, label=f"Δf_{cam}(u),est")
     arts += ax.plot(t, lo, color="#08519c", lw=1.0, ls="--", label=f"Δf_{cam}(l),est")

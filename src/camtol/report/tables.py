@@ -4,6 +4,12 @@ Units are in every column name and table heading: µm (``um`` in files) for the 
 errors of a translating follower, degrees for angles and for the errors of an oscillating
 follower; derivatives per radian of cam angle (``um_per_rad``), or per second when the
 design gives a cam speed (``um_per_s``).
+
+Why one module: it is the output of ``camtol analyze`` in its three forms, terminal tables,
+JSON and CSV curves, all written from the same displayed analysis
+(:func:`~camtol.report.display.display_analysis`) and the same S, V, A, J units
+(:func:`motion_units`), so that a table row, a JSON key and a CSV column of one quantity
+agree.
 """
 
 from __future__ import annotations

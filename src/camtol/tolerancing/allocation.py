@@ -17,6 +17,12 @@ tolerance grows), and stops at the first that meets the target. max_θ |ΔS| of 
 the largest of x·v over the vertices v of the convex hull of the sensitivity curve {±g(θ)}
 (exact: a linear function peaks at a vertex), so it costs a few hundred angles, not 3600.
 The choice is then verified by a fresh linear Monte Carlo run.
+
+Why one module: it is the one search of :func:`allocate` over grade combinations. The
+Pareto rows and hull angles are exact reductions of that search's sensitivity matrix, the
+Monte Carlo screening reuses its common random numbers, and ``_no_grade`` and
+``_require_scalable`` state what the search cannot do; none of the helpers is used
+elsewhere.
 """
 
 from __future__ import annotations

@@ -11,26 +11,26 @@ A design file may carry an optional ``[statistics]`` table (docs/tolerancing.md)
     sigma_um = 2.0
     correlation_deg = 10.0  # or: harmonics = [{ order = 2, amplitude_um = 1.5 }]
 
-:mod:`camtol.config.design_file` passes the raw table through (``CamDesign.extras["statistics"]``);
-:func:`statistical_model` parses it here with a pydantic schema. The model is kept beside
-the design rather than in it, so designs without the table are untouched.
+The table is validated when the design file is loaded
+(:mod:`camtol.config.statistics_table`, the file-format edge) and kept on the design as a
+:class:`StatisticalModel` (``CamDesign.extras["statistics"]``) that also remembers the
+table as written, so the design's identity is that of its file. A design without the
+table gets the defaults.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
-
+from camtol import _compat
 from camtol.design.cam_design import CamDesign
-from camtol.exceptions import ConfigError
+from camtol.exceptions import DesignError
 from camtol.tolerancing.distributions import SourceDistribution
 from camtol.tolerancing.processes import ProfileProcess
 
-__all__ = ["StatisticalModel", "parse_statistics", "statistical_model"]
+__all__ = ["StatisticalModel", "statistical_model"]
 
 
 @dataclass(frozen=True)
@@ -45,11 +45,26 @@ class StatisticalModel:
         Distribution of every source not in ``sources`` (normal, Cp = 1, truncated).
     process : ProfileProcess, optional
         Random periodic profile error added to the sampled sources.
+    table : tuple of (str, object)
+        The design file's ``[statistics]`` table it was read from, for the design's
+        identity; empty when built in Python.
     """
 
     sources: Mapping[str, SourceDistribution] = field(default_factory=dict)
     default: SourceDistribution = SourceDistribution()
     process: ProfileProcess | None = None
+    table: tuple[tuple[str, Any], ...] = field(default=(), compare=False, repr=False)
+
+    def to_mapping(self) -> dict[str, Any]:
+        """Return the ``[statistics]`` table this model was read from (empty if none).
+
+        Returns
+        -------
+        dict
+            As written in the design file: part of the design's identity
+            (:attr:`camtol.design.cam_design.CamDesign.content_hash`).
+        """
+        return dict(self.table)
 
     def distribution(self, key: str) -> SourceDistribution:
         """Return the distribution of a source.
@@ -62,152 +77,38 @@ class StatisticalModel:
         return self.sources.get(key, self.default)
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=False)
-
-
-class _SourceSchema(_Strict):
-    distribution: str = "normal"
-    cp: float = 1.0
-    truncate: bool = True
-    bias_um: float | None = None
-    bias_deg: float | None = None
-    zone_lower_um: float | None = None
-    zone_upper_um: float | None = None
-    zone_lower_deg: float | None = None
-    zone_upper_deg: float | None = None
-
-
-class _HarmonicSchema(_Strict):
-    order: int = Field(ge=1)
-    amplitude_um: float = Field(ge=0)
-
-
-class _ProcessSchema(_Strict):
-    target: str = "r"
-    sigma_um: float | None = None
-    correlation_deg: float | None = None
-    harmonics: list[_HarmonicSchema] = []
-
-
-def _validate(model: type[_Strict], data: Any, where: str) -> Any:
-    try:
-        return model.model_validate(data)
-    except ValidationError as exc:
-        e = exc.errors()[0]
-        loc = ".".join(str(p) for p in e["loc"])
-        path = f"{where}.{loc}" if loc else where
-        raise ConfigError(f"{path}={e.get('input')!r}: {e['msg']}") from None
-
-
-def _source(data: Any, where: str, unit: str) -> SourceDistribution:
-    s = _validate(_SourceSchema, data, where)
-    want, other = ("um", "deg") if unit == "mm" else ("deg", "um")
-    for name in ("bias", "zone_lower", "zone_upper"):
-        if getattr(s, f"{name}_{other}") is not None:
-            raise ConfigError(
-                f"{where}.{name}_{other}: this source is in {want}; use {name}_{want}"
-            )
-
-    def conv(v: float | None) -> float | None:
-        if v is None:
-            return None
-        return v * 1e-3 if unit == "mm" else math.radians(v)
-
-    try:
-        return SourceDistribution(
-            kind=s.distribution,
-            cp=s.cp,
-            bias=conv(getattr(s, f"bias_{want}")) or 0.0,
-            zone_lower=conv(getattr(s, f"zone_lower_{want}")),
-            zone_upper=conv(getattr(s, f"zone_upper_{want}")),
-            truncate=s.truncate,
-            label=where,
-        )
-    except ConfigError:
-        raise
-    except ValueError as exc:
-        raise ConfigError(str(exc)) from None
-
-
-def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalModel:
-    """Parse a ``[statistics]`` table for a design.
-
-    Parameters
-    ----------
-    raw : mapping
-        The table as read from TOML.
-    design : CamDesign
-        The design (its sources and their units).
-
-    Returns
-    -------
-    StatisticalModel
-
-    Raises
-    ------
-    ConfigError
-        One line naming the field, the value and what is allowed.
-    """
-    units = {s.key: s.unit for s in design.sources}
-    toleranced = [t.key for t in design.tolerances]
-    sources: dict[str, SourceDistribution] = {}
-    default = SourceDistribution()
-    process = None
-    for key, value in raw.items():
-        where = f"statistics.{key}"
-        if key == "profile_process":
-            p = _validate(_ProcessSchema, value, where)
-            try:
-                process = ProfileProcess(
-                    target=p.target,
-                    sigma_um=p.sigma_um,
-                    correlation_deg=p.correlation_deg,
-                    harmonics=tuple((h.order, h.amplitude_um) for h in p.harmonics),
-                )
-            except ValueError as exc:
-                raise ConfigError(str(exc)) from None
-            own = {s.key for s in design.mechanism.sources}
-            if process.target not in own:
-                ok = ", ".join(k for k in "rn" if k in own)
-                raise ConfigError(
-                    f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
-                    f" has no such profile source; allowed: {ok}"
-                )
-        elif key == "default":
-            default = _source(value, where, "mm")
-            if (
-                any(v is not None for v in (default.zone_lower, default.zone_upper))
-                or default.bias != 0.0
-            ):
-                raise ConfigError(
-                    f"{where}: bias and zone depend on the source; give them per source"
-                )
-        elif key in toleranced:
-            sources[key] = _source(value, where, units[key])
-        else:
-            allowed = ", ".join([*toleranced, "default", "profile_process"])
-            raise ConfigError(
-                f"{where} is not a toleranced source of this design; allowed: {allowed}"
-            )
-    return StatisticalModel(sources, default, process)
-
-
 def statistical_model(design: CamDesign) -> StatisticalModel:
     """Return the statistical model of a design: its ``[statistics]`` table or defaults.
 
     Parameters
     ----------
     design : CamDesign
-        A design, as loaded by :func:`camtol.config.design_file.load_design` (the raw table is in
-        ``design.extras["statistics"]``).
+        A design; a design file's ``[statistics]`` table is validated when the file is
+        loaded (:mod:`camtol.config.statistics_table`) and kept as a
+        :class:`StatisticalModel` in ``design.extras["statistics"]``.
 
     Returns
     -------
     StatisticalModel
         Normal, Cp = 1, truncated at ±Δ for every source not described.
+
+    Raises
+    ------
+    DesignError
+        If ``design.extras["statistics"]`` holds something else (a raw table put there
+        in Python: build it with :func:`camtol.config.statistics_table.parse_statistics`).
     """
-    raw = design.extras.get("statistics")
-    if isinstance(raw, Mapping) and raw:
-        return parse_statistics(raw, design)
-    return StatisticalModel()
+    model = design.extras.get("statistics")
+    if model is None:
+        return StatisticalModel()
+    if isinstance(model, StatisticalModel):
+        return model
+    raise DesignError(
+        f"design {design.name!r}: extras['statistics'] is a {type(model).__name__}, not a"
+        " validated model; read it with camtol.config.statistics_table.parse_statistics"
+    )
+
+
+def __getattr__(name: str) -> Any:
+    """Return ``parse_statistics``, moved to :mod:`camtol.config.statistics_table`."""
+    return _compat.moved_name(__name__, name)

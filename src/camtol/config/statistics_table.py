@@ -1,0 +1,156 @@
+"""The ``[statistics]`` table of a design file, validated (docs/tolerancing.md).
+
+A lax pydantic schema per entry (a number may be written as an integer), then the checks
+that need the design: every entry names a toleranced source of the design (or
+``default``, ``profile_process``), biases and zones in the source's own unit, a profile
+process on a profile source the follower has. The result is the design's
+:class:`~camtol.tolerancing.model.StatisticalModel`, which keeps the table as written
+for the design's identity. Messages name the field, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from camtol.design.cam_design import CamDesign
+from camtol.exceptions import ConfigError
+from camtol.tolerancing.distributions import SourceDistribution
+from camtol.tolerancing.model import StatisticalModel
+from camtol.tolerancing.processes import ProfileProcess
+
+__all__ = ["parse_statistics"]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=False)
+
+
+class _SourceSchema(_Strict):
+    distribution: str = "normal"
+    cp: float = 1.0
+    truncate: bool = True
+    bias_um: float | None = None
+    bias_deg: float | None = None
+    zone_lower_um: float | None = None
+    zone_upper_um: float | None = None
+    zone_lower_deg: float | None = None
+    zone_upper_deg: float | None = None
+
+
+class _HarmonicSchema(_Strict):
+    order: int = Field(ge=1)
+    amplitude_um: float = Field(ge=0)
+
+
+class _ProcessSchema(_Strict):
+    target: str = "r"
+    sigma_um: float | None = None
+    correlation_deg: float | None = None
+    harmonics: list[_HarmonicSchema] = []
+
+
+def _validate(model: type[_Strict], data: Any, where: str) -> Any:
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        e = exc.errors()[0]
+        loc = ".".join(str(p) for p in e["loc"])
+        path = f"{where}.{loc}" if loc else where
+        raise ConfigError(f"{path}={e.get('input')!r}: {e['msg']}") from None
+
+
+def _source(data: Any, where: str, unit: str) -> SourceDistribution:
+    s = _validate(_SourceSchema, data, where)
+    want, other = ("um", "deg") if unit == "mm" else ("deg", "um")
+    for name in ("bias", "zone_lower", "zone_upper"):
+        if getattr(s, f"{name}_{other}") is not None:
+            raise ConfigError(
+                f"{where}.{name}_{other}: this source is in {want}; use {name}_{want}"
+            )
+
+    def conv(v: float | None) -> float | None:
+        if v is None:
+            return None
+        return v * 1e-3 if unit == "mm" else math.radians(v)
+
+    try:
+        return SourceDistribution(
+            kind=s.distribution,
+            cp=s.cp,
+            bias=conv(getattr(s, f"bias_{want}")) or 0.0,
+            zone_lower=conv(getattr(s, f"zone_lower_{want}")),
+            zone_upper=conv(getattr(s, f"zone_upper_{want}")),
+            truncate=s.truncate,
+            label=where,
+        )
+    except ConfigError:
+        raise
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+
+
+def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalModel:
+    """Parse a ``[statistics]`` table for a design.
+
+    Parameters
+    ----------
+    raw : mapping
+        The table as read from TOML.
+    design : CamDesign
+        The design (its sources and their units).
+
+    Returns
+    -------
+    StatisticalModel
+
+    Raises
+    ------
+    ConfigError
+        One line naming the field, the value and what is allowed.
+    """
+    units = {s.key: s.unit for s in design.sources}
+    toleranced = [t.key for t in design.tolerances]
+    sources: dict[str, SourceDistribution] = {}
+    default = SourceDistribution()
+    process = None
+    for key, value in raw.items():
+        where = f"statistics.{key}"
+        if key == "profile_process":
+            p = _validate(_ProcessSchema, value, where)
+            try:
+                process = ProfileProcess(
+                    target=p.target,
+                    sigma_um=p.sigma_um,
+                    correlation_deg=p.correlation_deg,
+                    harmonics=tuple((h.order, h.amplitude_um) for h in p.harmonics),
+                )
+            except ValueError as exc:
+                raise ConfigError(str(exc)) from None
+            own = {s.key for s in design.mechanism.sources}
+            if process.target not in own:
+                ok = ", ".join(k for k in "rn" if k in own)
+                raise ConfigError(
+                    f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
+                    f" has no such profile source; allowed: {ok}"
+                )
+        elif key == "default":
+            default = _source(value, where, "mm")
+            if (
+                any(v is not None for v in (default.zone_lower, default.zone_upper))
+                or default.bias != 0.0
+            ):
+                raise ConfigError(
+                    f"{where}: bias and zone depend on the source; give them per source"
+                )
+        elif key in toleranced:
+            sources[key] = _source(value, where, units[key])
+        else:
+            allowed = ", ".join([*toleranced, "default", "profile_process"])
+            raise ConfigError(
+                f"{where} is not a toleranced source of this design; allowed: {allowed}"
+            )
+    return StatisticalModel(sources, default, process, table=tuple(raw.items()))
