@@ -32,11 +32,11 @@ import numpy as np
 
 from camtol.analysis.errors import error_analysis
 from camtol.analysis.kinematics import analysis_grid
+from camtol.contact.as_made import follow_as_made
 from camtol.contact.engine import follow
-from camtol.contact.errors_profile import FourierError
 from camtol.contact.shapes import AnalyticShape, PolygonShape
 from camtol.design.cam_design import CamDesign, ResolvedTolerance
-from camtol.design.sources import DESIGN_SOURCES
+from camtol.design.sources import AsMade, apply_source, can_apply
 from camtol.jet import FloatArray
 
 __all__ = [
@@ -227,13 +227,6 @@ def _nominal_shape(design: CamDesign) -> AnalyticShape:
     return AnalyticShape(design.mechanism, design.program)
 
 
-def _exactly_simulable(design: CamDesign, key: str) -> bool:
-    """Tell whether ``key`` can be re-simulated exactly (profile, parameter, design)."""
-    if key in ("r", "n") or key in DESIGN_SOURCES:
-        return True
-    return any(s.key == key and s.parameter is not None for s in design.mechanism.sources)
-
-
 def _exact_delta(
     design: CamDesign,
     key: str,
@@ -243,28 +236,8 @@ def _exact_delta(
     nominal_lift: FloatArray,
 ) -> FloatArray:
     """Exact ΔS of one source at ``deviation`` (internal units)."""
-    mech = design.mechanism
-    dsrc = DESIGN_SOURCES.get(key)
-    if dsrc is not None:
-        lift = dsrc.exact_lift(mech, design.program, theta, deviation, left_limit=left)
-        return np.asarray(lift - nominal_lift)
-    if key in ("r", "n"):
-        err = FourierError(deviation)
-        shape = AnalyticShape(
-            mech,
-            design.program,
-            radial_error=err if key == "r" else None,
-            normal_error=err if key == "n" else None,
-        )
-        res = follow(shape, mech, theta, left_limit=left)
-    else:
-        res = follow(
-            _nominal_shape(design),
-            mech.perturbed(key, deviation),
-            theta,
-            reference=mech,
-            left_limit=left,
-        )
+    as_made = apply_source(AsMade(design.mechanism), key, deviation)
+    res = follow_as_made(as_made, design.mechanism, design.program, theta, left_limit=left)
     return np.asarray(res.lift - nominal_lift)
 
 
@@ -304,7 +277,7 @@ def linearisation_check(
     notes: list[str] = []
     for tol in tolerances:
         key = tol.key
-        if not _exactly_simulable(design, key):
+        if not can_apply(design.mechanism, key):
             notes.append(f"source {key!r} has no exact re-simulation; not checked")
             continue
         lin = error_analysis(design, (tol,), theta, left_limit=left).sources[key].delta_lift

@@ -26,22 +26,54 @@ Registering another source (e.g. the cam-pivot eccentricity) means subclassing
 
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from camtol.design.motion import MotionProgram
+from camtol.exceptions import DesignError
 from camtol.jet import FloatArray, JetLike
 from camtol.mechanisms.base import ErrorSource, Mechanism
 
 __all__ = [
     "DESIGN_SOURCES",
     "AngularPhase",
+    "AsMade",
     "DesignSource",
+    "apply_source",
+    "can_apply",
     "design_source",
     "register_design_source",
 ]
+
+
+@dataclass(frozen=True)
+class AsMade:
+    """A cam and its follower as made: what exact re-simulation applies (THEORY §3, §5).
+
+    Every error source, of the follower or of the design, moves one of these; the
+    contact engine then follows the cam as made
+    (:func:`camtol.contact.as_made.follow_as_made`). ``camtol verify`` applies one source
+    at a time, Monte Carlo in exact mode all of a sample's at once.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+        The follower as made (its parameter sources applied,
+        :meth:`~camtol.mechanisms.base.Mechanism.perturbed`).
+    radial_error_mm, normal_error_mm : float or None
+        Constant profile errors Δr, Δn of the cam (None: not applied). [mm]
+    phase_rad : float
+        The cam sits late on its shaft by Δθ0: the follower sees it at θ − Δθ0. [rad]
+    """
+
+    mechanism: Mechanism
+    radial_error_mm: float | None = None
+    normal_error_mm: float | None = None
+    phase_rad: float = 0.0
 
 
 class DesignSource(ABC):
@@ -113,6 +145,22 @@ class DesignSource(ABC):
             S*(θ). [mm, or rad for an oscillating follower]
         """
 
+    @abstractmethod
+    def perturb(self, as_made: AsMade, delta: float) -> AsMade:
+        """Apply deviation ``delta`` of this source to a cam as made (exact re-simulation).
+
+        Parameters
+        ----------
+        as_made : AsMade
+            The cam and follower with the other sources already applied.
+        delta : float
+            Deviation Δp. [mm or rad]
+
+        Returns
+        -------
+        AsMade
+        """
+
     def nominal_size(self, mechanism: Mechanism, max_radius_mm: float) -> float:
         """Nominal size for an IT grade (THEORY §3.6); by default there is none.
 
@@ -160,6 +208,10 @@ class AngularPhase(DesignSource):
         theta = np.asarray(theta_rad, dtype=float)
         return np.asarray(program.evaluate(theta - delta, left_limit=left_limit).lift)
 
+    def perturb(self, as_made: AsMade, delta: float) -> AsMade:
+        """Turn the cam late by Δθ0 on its shaft, whatever the other errors."""
+        return dataclasses.replace(as_made, phase_rad=as_made.phase_rad + delta)
+
 
 #: Design-level error sources by tolerance key (see :func:`register_design_source`).
 DESIGN_SOURCES: dict[str, DesignSource] = {}
@@ -206,3 +258,68 @@ def design_source(key: str) -> DesignSource | None:
 
 
 register_design_source(AngularPhase())
+
+
+def can_apply(mechanism: Mechanism, key: str) -> bool:
+    """Tell whether error source ``key`` can be re-simulated exactly on this follower.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The nominal follower.
+    key : str
+        Tolerance key.
+
+    Returns
+    -------
+    bool
+        True for a design-level source, a profile error and a follower parameter.
+    """
+    if key in DESIGN_SOURCES:
+        return True
+    src = next((s for s in mechanism.sources if s.key == key), None)
+    return src is not None and (src.profile is not None or src.parameter is not None)
+
+
+def apply_source(as_made: AsMade, key: str, delta: float) -> AsMade:
+    """Apply error source ``key`` at deviation ``delta`` to a cam as made.
+
+    The source says how: a design-level source by :meth:`DesignSource.perturb`, a profile
+    error (:attr:`~camtol.mechanisms.base.ErrorSource.profile`) by adding to the cam's
+    radial or normal error, a follower dimension
+    (:attr:`~camtol.mechanisms.base.ErrorSource.parameter`) by
+    :meth:`~camtol.mechanisms.base.Mechanism.perturbed`.
+
+    Parameters
+    ----------
+    as_made : AsMade
+        The cam and follower so far (start from ``AsMade(design.mechanism)``).
+    key : str
+        Tolerance key of the source.
+    delta : float
+        Deviation. [mm or rad]
+
+    Returns
+    -------
+    AsMade
+
+    Raises
+    ------
+    DesignError
+        A source the follower does not have or that cannot be re-simulated exactly.
+    """
+    design_level = DESIGN_SOURCES.get(key)
+    if design_level is not None:
+        return design_level.perturb(as_made, delta)
+    src = next((s for s in as_made.mechanism.sources if s.key == key), None)
+    if src is not None and src.profile == "radial":
+        return dataclasses.replace(
+            as_made, radial_error_mm=(as_made.radial_error_mm or 0.0) + delta
+        )
+    if src is not None and src.profile == "normal":
+        return dataclasses.replace(
+            as_made, normal_error_mm=(as_made.normal_error_mm or 0.0) + delta
+        )
+    if src is not None and src.parameter is not None:
+        return dataclasses.replace(as_made, mechanism=as_made.mechanism.perturbed(key, delta))
+    raise DesignError(f"source {key!r} cannot be re-simulated exactly")

@@ -24,7 +24,7 @@ from camtol.mechanisms.roller_translating import RollerTranslating
 from camtol.mechanisms.spec import Parameter
 
 #: Follower types by the name used in design files (``follower.type``); the registry
-#: filled by :func:`~camtol.mechanisms.spec.register_follower`.
+#: filled by :func:`~camtol.mechanisms.base.register_follower`.
 MECHANISMS: dict[str, type[Mechanism]] = FOLLOWER_TYPES
 
 __all__ = [

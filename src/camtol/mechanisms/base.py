@@ -84,12 +84,25 @@ class ErrorSource:
         dimension, e.g. ``"roller_radius_mm"``), or None for sources that are not a
         parameter of the mechanism (profile errors ``r``, ``n``; design-level sources of
         :mod:`camtol.design.sources`). :meth:`Mechanism.perturbed` uses it.
+    profile : {"radial", "normal"} or None
+        For a profile error of the cam: the direction in which it moves the profile, how
+        exact re-simulation applies it (:func:`camtol.design.sources.apply_source`). By
+        the design files' convention the keys ``r`` and ``n`` are the radial and normal
+        profile errors of every follower type, so a source so named that perturbs no
+        parameter is one unless stated otherwise.
     """
 
     key: str
     description: str
     unit: SourceUnit
     parameter: str | None = None
+    profile: Literal["radial", "normal"] | None = None
+
+    def __post_init__(self) -> None:
+        if self.profile is None and self.parameter is None:
+            conventional = {"r": "radial", "n": "normal"}.get(self.key)
+            if conventional is not None:
+                object.__setattr__(self, "profile", conventional)
 
 
 @dataclass(frozen=True)

@@ -89,8 +89,8 @@ class ConjugateCamB(RollerMechanism):
     motion_only: ClassVar[bool] = True
     output: ClassVar[OutputKind] = "oscillating"
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr_B", "mm"),
-        ErrorSource("n", "normal profile error Δn_B", "mm"),
+        ErrorSource("r", "radial profile error Δr_B", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn_B", "mm", profile="normal"),
         ErrorSource("rf", "roller-radius error Δr_rD", "mm", "roller_radius_mm"),
         ErrorSource("l", "arm-length error Δl_B", "mm", "arm_length_mm"),
         ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
@@ -269,8 +269,8 @@ class ConjugatePair(Mechanism):
     )
     #: The tolerances of a pair are cam A's: ``rf`` is roller C, ``l`` arm A.
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm"),
-        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
         ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
         ErrorSource("l", "arm-length error Δl", "mm", "arm_a_mm"),
         ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),

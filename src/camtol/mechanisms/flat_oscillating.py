@@ -94,8 +94,8 @@ class FlatOscillating(Mechanism):
         offset("face_offset_mm", "offset e of the face from the pivot"),
     )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm"),
-        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
         ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
         ErrorSource("e", "face-offset error Δe", "mm", "face_offset_mm"),
     )

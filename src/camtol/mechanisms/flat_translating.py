@@ -99,8 +99,8 @@ class FlatTranslating(Mechanism):
         ),
     )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm"),
-        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
         ErrorSource("e", "offset error Δe", "mm", "offset_mm"),
         ErrorSource("phi", "face-angle error Δφ", "rad", "face_angle_rad"),
     )

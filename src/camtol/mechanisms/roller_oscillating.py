@@ -402,8 +402,8 @@ class RollerOscillating(RollerMechanism):
         length("arm_length_mm", "arm length l = |O3C|"),
     )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm"),
-        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
         ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
         ErrorSource("l", "arm-length error Δl", "mm", "arm_length_mm"),
         ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),

@@ -83,8 +83,8 @@ class RollerTranslating(RollerMechanism):
         offset("offset_mm", "offset e of the translation line"),
     )
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm"),
-        ErrorSource("n", "normal profile error Δn", "mm"),
+        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
         ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
         ErrorSource("e", "offset error Δe", "mm", "offset_mm"),
     )

@@ -3,7 +3,7 @@
 With coordinate measurements of both cams of a conjugate pair:
 
 1. **Predicted record.** The fixture's Δf(θ) predicted from the two measured profiles by
-   the exact fixture simulation (the digital twin, :func:`~camtol.contact.simulate_fixture`,
+   the exact fixture simulation (the digital twin, :func:`~camtol.pair.simulate_fixture`,
    with the follower's actual constants), and by the linear eqs. 14-18 (Δf_est), each
    compared with the measured Δf_mea: rms of the difference and relative deviation
    rms(diff)/rms(Δf_mea), as [CW11] Table 4.

@@ -150,7 +150,7 @@ def cmm_fixture_figure(comparison: CmmFixtureComparison) -> Figure:
     Parameters
     ----------
     comparison : CmmFixtureComparison
-        The fixture compared with the CMM (:func:`~camtol.inspection.compare_cmm_fixture`).
+        The fixture compared with the CMM (:func:`~camtol.pair.compare_cmm_fixture`).
 
     Returns
     -------

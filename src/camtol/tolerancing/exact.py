@@ -18,16 +18,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from camtol.contact.engine import follow
-from camtol.contact.errors_profile import FourierError, ProfileError
-from camtol.contact.shapes import AnalyticShape
+from camtol.contact.as_made import follow_as_made
+from camtol.contact.errors_profile import ProfileError
+from camtol.design.sources import AsMade, apply_source, can_apply
 from camtol.exceptions import DesignError
-from camtol.jet import FloatArray, Jet
+from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
 from camtol.tolerancing.processes import ContactAngleError
 from camtol.tolerancing.results import (
@@ -65,52 +64,28 @@ def perturbed(mechanism: Mechanism, key: str, delta: float) -> Mechanism:
     return mechanism.perturbed(key, delta)
 
 
-@dataclass(frozen=True)
-class _Sum:
-    parts: tuple[ProfileError, ...]
-
-    def __call__(self, theta_rad: FloatArray) -> Jet:
-        out = self.parts[0](theta_rad)
-        for p in self.parts[1:]:
-            out = out + p(theta_rad)
-        return out
-
-
-def _sample_shape(study: Any, x: FloatArray) -> tuple[AnalyticShape, Mechanism, float]:
-    """Return the sample's cam shape, follower and cam phase error Δθ0 [rad]."""
+def _sample_as_made(study: Any, x: FloatArray) -> tuple[AsMade, dict[str, list[ProfileError]]]:
+    """Return one sample's cam as made and its profile process, by direction."""
     plan = study.plan
     design = study.design
-    mech = design.mechanism
-    errs: dict[str, list[ProfileError]] = {"r": [], "n": []}
-    phase = 0.0
-    own = {s.key for s in mech.sources}
+    as_made = AsMade(design.mechanism)
     for j, lab in enumerate(plan.labels[: len(plan.distributions)]):
-        if lab in ("r", "n"):
-            errs[lab].append(FourierError(float(x[j])))
-        elif lab == "phase":
-            # The cam sits late by Δθ0: the follower sees the cam at θ − Δθ0 (THEORY §3,
-            # camtol.design.sources.AngularPhase), exactly, whatever the other errors.
-            phase = float(x[j])
-        elif lab in own:
-            mech = perturbed(mech, lab, float(x[j]))
-        else:
+        if not can_apply(design.mechanism, lab):
             raise DesignError(
                 f"source {lab!r} cannot be re-simulated in exact mode; use --mode linear"
             )
+        as_made = apply_source(as_made, lab, float(x[j]))
+    process: dict[str, list[ProfileError]] = {"radial": [], "normal": []}
     p = plan.process
     if p is not None:
         a, b = plan.groups[-1]
         k = p.orders.size
         coef = x[a:b]
-        errs[p.target].append(
+        target = design.source(p.target)  # the profile source the process perturbs
+        process[target.profile or "radial"].append(
             ContactAngleError(design.mechanism, design.program, p.orders, coef[:k], coef[k:])
         )
-
-    def one(e: list[ProfileError]) -> ProfileError | None:
-        return None if not e else e[0] if len(e) == 1 else _Sum(tuple(e))
-
-    shape = AnalyticShape(design.mechanism, design.program, one(errs["r"]), one(errs["n"]))
-    return shape, mech, phase
+    return as_made, process
 
 
 def _stats(y: FloatArray) -> tuple[FloatArray, FloatArray, list[FloatArray]]:
@@ -199,8 +174,16 @@ def run_exact(
     nominal = design.program.evaluate(theta, left_limit=left).lift
     exact = np.empty((samples, theta.size))
     for i in range(samples):
-        shape, mech, phase = _sample_shape(study, x[i])
-        res = follow(shape, mech, theta - phase, reference=design.mechanism, left_limit=left)
+        as_made, process = _sample_as_made(study, x[i])
+        res = follow_as_made(
+            as_made,
+            design.mechanism,
+            design.program,
+            theta,
+            left_limit=left,
+            radial_errors=process["radial"],
+            normal_errors=process["normal"],
+        )
         exact[i] = res.lift - nominal
         if progress is not None:
             progress(i + 1, samples)
