@@ -4,7 +4,7 @@ Run: ``python bench/bench_cli.py``. Each command runs in a fresh interpreter
 (``python -m camtol ...``, as the ``camtol`` script does), so the figures include Python's
 own start-up, measured alone in the same run for reference:
 
-- wall time of ``camtol --help`` and ``camtol examples`` (best of 7; target 0.15 s);
+- wall time of ``camtol --help`` and ``camtol examples`` (best of 7; target 0.1 s);
 - peak resident memory (``ru_maxrss`` of the child) of
   ``camtol analyze --example cw06-translating --step 0.001`` (360,001 angles; target
   120 MiB), with ``--step 1`` alongside: the interpreter and libraries alone.
@@ -61,8 +61,8 @@ def main() -> list[Figure]:
     print(f"analyze --step 1 (interpreter and libraries): {rss_base:.1f} MiB peak RSS")
     print(f"load average while measuring: {', '.join(f'{x:.1f}' for x in os.getloadavg())}")
     figures = [
-        Figure("camtol --help, wall", help_s, "s", 0.15),
-        Figure("camtol examples, wall", examples_s, "s", 0.15),
+        Figure("camtol --help, wall", help_s, "s", 0.1),
+        Figure("camtol examples, wall", examples_s, "s", 0.1),
         Figure("analyze cw06-translating --step 0.001, peak RSS", rss, "MiB", 120.0),
     ]
     print_figures("command line (bench_cli.py)", figures)

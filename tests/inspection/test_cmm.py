@@ -427,13 +427,13 @@ def test_a_stylus_ball_larger_than_a_concave_radius_is_refused(tmp_path) -> None
     # A small translating-roller cam with a concave flank: a probe ball larger than its
     # concave radius bridges the hollow, so neither a simulated scan nor the compensation
     # of a measured one can hold; a ball that fits is accepted by both.
+    from camtol.analysis.offset import smallest_concave_radius
     from camtol.design.cam_design import CamDesign
     from camtol.design.motion import Segment, SegmentProgram
     from camtol.exceptions import GeometryError
     from camtol.inspection.cmm import read_scan
     from camtol.inspection.deviations import check_stylus
     from camtol.inspection.twin import scan_csv_text
-    from camtol.analysis.offset import smallest_concave_radius
     from camtol.mechanisms import RollerTranslating
 
     r = math.radians

@@ -19,8 +19,8 @@ from camtol.tolerancing import (
     allocate,
     monte_carlo,
 )
-from camtol.tolerancing.study import prepare, sample_matrix
 from camtol.tolerancing.plan import CHUNK
+from camtol.tolerancing.study import prepare, sample_matrix
 
 CW06 = load_example("cw06-translating")
 

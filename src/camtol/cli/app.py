@@ -69,7 +69,7 @@ class LazyGroup(click.Group):
 
 
 #: Commands living in their own modules: name -> (module, attribute, help summary, i.e.
-#: the first paragraph of the command's docstring; tests/test_cli_lazy.py checks it).
+#: the first paragraph of the command's docstring; tests/cli/test_lazy_commands.py checks it).
 #: Registered in :func:`_register_subcommands`.
 LAZY_COMMANDS: dict[str, tuple[str, str, str]] = {}
 

@@ -4,7 +4,7 @@
 :func:`camtol.grid.check_step`, so every command refuses a step that does not divide 360°
 with the same one-line message naming the flag (``--step=0.7 is not allowed; ...``), before
 any file is read. The module imports neither numpy nor the library: ``camtol --help`` stays
-light (``tests/test_cli_lazy.py``).
+light (``tests/cli/test_lazy_commands.py``).
 
 :class:`Number` is the type of a numeric option with bounds: a value that is not finite or
 out of bounds is refused as the line is read, with the flag's name and what is allowed

@@ -1,7 +1,7 @@
 """Every command's ``--json`` output validates against its shipped JSON Schema (issue 13.6).
 
 The commands are enumerated from the CLI: a command with a ``--json`` flag but no schema
-file in ``camtol/data/schemas`` or no invocation in tests/json_invocations.py fails.
+file in ``camtol/data/schemas`` or no invocation in tests/cli/json_invocations.py fails.
 """
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ from typing import Any
 
 import click
 import pytest
+from json_invocations import INVOCATIONS, prepare
 
 from camtol import __version__
 from camtol.cli.app import cli, main
-from json_invocations import INVOCATIONS, prepare
 
 jsonschema = pytest.importorskip("jsonschema")
 
@@ -107,7 +107,7 @@ def test_analyze_keys_are_snake_case_with_numbers(subs: dict[str, str]) -> None:
 
 
 def test_schemas_are_package_data() -> None:
-    text = (Path(__file__).resolve().parent.parent / "pyproject.toml").read_text()
+    text = (Path(__file__).resolve().parents[2] / "pyproject.toml").read_text()
     assert "data/schemas/*.schema.json" in text
 
 

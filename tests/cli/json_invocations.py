@@ -1,4 +1,4 @@
-"""Invocations whose ``--json`` output tests/test_json_schemas.py validates (issue 13 item 6).
+"""Invocations whose ``--json`` output tests/cli/test_json_schemas.py validates (issue 13 item 6).
 
 Each command with a ``--json`` flag needs at least one entry here and a schema file
 ``src/camtol/data/schemas/<command>.schema.json`` (a subcommand ``records list``:

@@ -2,7 +2,7 @@
 
 Scans come from the digital twin (``camtol simulate cmm``) with the truth beside them. Each
 test runs on SQLite and, when ``CAMTOL_TEST_POSTGRES_URL`` is set, on PostgreSQL
-(tests/store/conftest.py).
+(tests/records/conftest.py).
 """
 
 from __future__ import annotations

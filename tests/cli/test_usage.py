@@ -9,7 +9,7 @@ import pytest
 from camtol.cli.app import main
 from camtol.cli.usage import BEGIN, END, usage_block
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 
 def test_readme_usage_block_matches_the_cli() -> None:
