@@ -45,13 +45,18 @@ def test_perturbed_moves_exactly_the_declared_parameter(mech: object) -> None:
         assert src.parameter is not None
         out = mech.perturbed(src.key, 1e-3)
         assert type(out) is type(mech)
+        if isinstance(mech, ConjugatePair) and src.key == "rf_d":
+            # r_D defaulted to r_C: roller D alone moves from r_C
+            assert out.roller_d_mm == mech.roller_d_mm + 1e-3  # type: ignore[attr-defined]
+            assert out.roller_radius_mm == mech.roller_radius_mm  # type: ignore[attr-defined]
+            continue
         assert getattr(out, src.parameter) == getattr(mech, src.parameter) + 1e-3
         changed = {
             f.name
             for f in dataclasses.fields(mech)  # type: ignore[arg-type]
             if getattr(out, f.name) != getattr(mech, f.name)
         }
-        if isinstance(mech, ConjugatePair) and src.key == "rf":
+        if isinstance(mech, ConjugatePair) and src.key in ("rf", "rf_c"):
             # r_D defaulted to r_C: pinned at the nominal value so that only roller C moves
             assert changed == {src.parameter, "roller_b_radius_mm"}
             assert out.roller_d_mm == mech.roller_d_mm  # type: ignore[attr-defined]
@@ -95,8 +100,11 @@ def test_cams_of_every_example(name: str) -> None:
             assert c.design.program is design.program
             assert c.design.speed_rpm == design.speed_rpm
             assert c.design.pressure_angle_limit_deg == design.pressure_angle_limit_deg
-            # every tolerance of the pair names a source that both cams have
-            assert c.design.tolerances == design.tolerances
+            # each cam gets the pair's tolerances of its own sources, under its own keys
+            keys = design.mechanism.cam_source_keys(c.label)
+            mine = [t for t in design.tolerances if t.key in keys]
+            assert [t.key for t in c.design.tolerances] == [keys[t.key] for t in mine]
+            assert [t.grade for t in c.design.tolerances] == [t.grade for t in mine]
             assert len(c.mechanism.cams()) == 1
     else:
         assert len(cams) == 1

@@ -393,6 +393,11 @@ def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndar
     return theta, lift
 
 
+#: What a tolerance key may end in: a unit (a wrong one is named as such); anything else
+#: after the source's key is another key (e.g. a pair's ``r_a`` on a single cam).
+_UNIT_SUFFIXES = ("um", "deg", "mm", "m", "rad", "mrad", "in", "arcsec")
+
+
 def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec, ...]:
     specs = []
     seen: set[str] = set()
@@ -402,8 +407,9 @@ def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec,
         f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}" for k, u in units.items()
     )
     for name, value in raw.items():
-        key, _, suffix = name.partition("_")
-        if key not in units:
+        # the longest source key first: a pair's "r_a" is a source, "r_um" is r in µm
+        key, suffix = (name, "") if name in units else name.rpartition("_")[::2]
+        if key not in units or suffix not in ("", *_UNIT_SUFFIXES):
             raise ConfigError(
                 f"tolerances.{name} is not an error source of a {mech.kind} follower;"
                 f" allowed: {allowed}"

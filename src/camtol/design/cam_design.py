@@ -166,10 +166,34 @@ class CamDesign:
                     f"tolerances.{t.key} is not an error source of a {self.mechanism.kind}"
                     f" follower; allowed: {', '.join(sorted(keys))}"
                 )
+        for label, cam in self.mechanism.cams():  # one tolerance per source of each cam
+            named: dict[str, str] = {}
+            for t in self.tolerances:  # a grade on a source that takes none (η), at once
+                own = self.mechanism.cam_source_keys(label).get(t.key)
+                if t.grade is not None and own is not None and cam is not self.mechanism:
+                    try:
+                        cam.nominal_size(own, 1.0)
+                    except ValueError as exc:
+                        raise DesignError(
+                            f"tolerances.{t.key}={t.grade!r} cannot be applied: {exc}; give"
+                            f" tolerances.{t.key}_{'um' if self._unit(t.key) == 'mm' else 'deg'}"
+                            " as an explicit deviation instead"
+                        ) from None
+            for key, own in self.mechanism.cam_source_keys(label).items():
+                if any(t.key == key for t in self.tolerances):
+                    if own in named:
+                        raise DesignError(
+                            f"tolerances.{named[own]} and tolerances.{key} both set the"
+                            f" {own!r} source of cam {label}; give one of them"
+                        )
+                    named[own] = key
         if self.speed_rpm is not None and not (
             math.isfinite(self.speed_rpm) and self.speed_rpm > 0
         ):
             raise DesignError(f"operation.speed_rpm={self.speed_rpm:g} must be > 0")
+
+    def _unit(self, key: str) -> str:
+        return next(s.unit for s in self.sources if s.key == key)
 
     @property
     def sources(self) -> tuple[ErrorSource, ...]:
@@ -221,14 +245,24 @@ class CamDesign:
             if mech is self.mechanism:
                 out.append(Cam(label, mech, self, letter))
                 continue
-            keys = {s.key for s in mech.sources} | set(DESIGN_SOURCES)
             design = dataclasses.replace(
                 self,
                 name=f"{self.name} ({label})" if label else self.name,
                 mechanism=mech,
-                tolerances=tuple(t for t in self.tolerances if t.key in keys),
+                tolerances=self._cam_tolerances(label),
             )
             out.append(Cam(label, mech, design, letter))
+        return tuple(out)
+
+    def _cam_tolerances(self, label: str) -> tuple[ToleranceSpec, ...]:
+        """Return the tolerances of cam ``label``, under that cam's own source keys."""
+        keys = self.mechanism.cam_source_keys(label)
+        out = []
+        for t in self.tolerances:
+            if t.key in keys:
+                out.append(dataclasses.replace(t, key=keys[t.key]))
+            elif t.key in DESIGN_SOURCES:
+                out.append(t)
         return tuple(out)
 
     def cam(self, letter: str) -> Cam:

@@ -412,6 +412,25 @@ class Mechanism(ABC):
             profile is convex, < 0 where concave. [mm]
         """
 
+    def cam_source_keys(self, label: str) -> dict[str, str]:
+        """How the design's tolerance keys name the error sources of its cam ``label``.
+
+        A single cam's keys are its own. A mechanism of several cams (a conjugate pair)
+        maps its per-cam keys (``r_a``, ``rf_d``) to the sources of each cam (``r``, ``rf``)
+        and a key shared by the cams (the centre distance ``f``) to both.
+
+        Parameters
+        ----------
+        label : str
+            The cam's label, as :meth:`cams` gives it.
+
+        Returns
+        -------
+        dict of str to str
+            Design tolerance key -> the cam's own source key.
+        """
+        return {s.key: s.key for s in self.sources}
+
     @abstractmethod
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
         """Nominal size used to look up an IT grade for a source (THEORY §3.6).

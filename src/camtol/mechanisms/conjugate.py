@@ -185,14 +185,19 @@ class ConjugateCamB(RollerMechanism):
         return self.pivot_distance_mm
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
-        """IT-grade nominal sizes: max radial dimension, r_D, l_B, f, η in degrees."""
+        """IT-grade nominal sizes: max radial dimension, r_D, l_B, f; η takes none.
+
+        The arm angle is a deviation the design states (``eta_deg``), like the cam's phase:
+        an IT grade of an angle between two arms is no drawing's convention.
+        """
+        if key == "eta":
+            raise ValueError("the arm angle η takes an explicit deviation (eta_deg), not a grade")
         return {
             "r": max_radius_mm,
             "n": max_radius_mm,
             "rf": self.roller_radius_mm,
             "l": self.arm_length_mm,
             "f": self.pivot_distance_mm,
-            "eta": math.degrees(self.arm_angle_rad),
         }[key]
 
     def summary(self) -> list[tuple[str, str]]:
@@ -267,14 +272,32 @@ class ConjugatePair(Mechanism):
             exclusive=True,
         ),
     )
-    #: The tolerances of a pair are cam A's: ``rf`` is roller C, ``l`` arm A.
+    #: The pair's sources: per cam (``_a``/``_b``), per roller (``_c``/``_d``), the arm
+    #: angle η and the centre distance f the cams share. ``r``, ``n``, ``rf``, ``l`` give the
+    #: same tolerance to both cams' (independent) sources; see :meth:`cam_source_keys`.
     sources: ClassVar[tuple[ErrorSource, ...]] = (
-        ErrorSource("r", "radial profile error Δr", "mm", profile="radial"),
-        ErrorSource("n", "normal profile error Δn", "mm", profile="normal"),
-        ErrorSource("rf", "roller-radius error Δr_f", "mm", "roller_radius_mm"),
-        ErrorSource("l", "arm-length error Δl", "mm", "arm_a_mm"),
-        ErrorSource("f", "pivot-distance error Δf", "mm", "pivot_distance_mm"),
+        ErrorSource("r", "radial profile error Δr (each cam)", "mm", profile="radial"),
+        ErrorSource("n", "normal profile error Δn (each cam)", "mm", profile="normal"),
+        ErrorSource("rf", "roller-radius error Δr_f (each roller)", "mm", "roller_radius_mm"),
+        ErrorSource("l", "arm-length error Δl (each arm)", "mm", "arm_a_mm"),
+        ErrorSource("f", "centre-distance error Δf0 of the machine", "mm", "pivot_distance_mm"),
+        ErrorSource("r_a", "radial profile error Δr_A of cam A", "mm", profile="radial"),
+        ErrorSource("r_b", "radial profile error Δr_B of cam B", "mm", profile="radial"),
+        ErrorSource("n_a", "normal profile error Δn_A of cam A", "mm", profile="normal"),
+        ErrorSource("n_b", "normal profile error Δn_B of cam B", "mm", profile="normal"),
+        ErrorSource("rf_c", "radius error Δr_rC of roller C", "mm", "roller_radius_mm"),
+        ErrorSource("rf_d", "radius error Δr_rD of roller D", "mm", "roller_b_radius_mm"),
+        ErrorSource("l_a", "arm-length error Δl_A", "mm", "arm_a_mm"),
+        ErrorSource("l_b", "arm-length error Δl_B", "mm", "arm_b_mm"),
+        ErrorSource("eta", "arm-angle error Δη", "rad", "arm_angle_rad"),
     )
+    #: Design key -> the source of cam A, of cam B it is (:meth:`cam_source_keys`).
+    _CAM_KEYS: ClassVar[dict[str, dict[str, str]]] = {
+        "A": {"r": "r", "n": "n", "rf": "rf", "l": "l", "f": "f"}
+        | {"r_a": "r", "n_a": "n", "rf_c": "rf", "l_a": "l"},
+        "B": {"r": "r", "n": "n", "rf": "rf", "l": "l", "f": "f"}
+        | {"r_b": "r", "n_b": "n", "rf_d": "rf", "l_b": "l", "eta": "eta"},
+    }
 
     def __post_init__(self) -> None:
         require_positive("follower.base_radius_mm", self.base_radius_mm)
@@ -315,14 +338,58 @@ class ConjugatePair(Mechanism):
         ConjugatePair
             The perturbed pair.
         """
+        if source == "rf_d" and self.roller_b_radius_mm is None:  # r_D defaults to r_C
+            return dataclasses.replace(self, roller_b_radius_mm=self.roller_radius_mm + delta)
         out = super().perturbed(source, delta)
-        if source == "rf" and self.roller_b_radius_mm is None:
+        if source in ("rf", "rf_c") and self.roller_b_radius_mm is None:
             out = dataclasses.replace(out, roller_b_radius_mm=self.roller_radius_mm)  # type: ignore[type-var]
         return out
 
     def cams(self) -> tuple[tuple[str, Mechanism], ...]:
         """Cam A (:attr:`cam_a`) and cam B (:attr:`cam_b`), labelled ``"A"`` and ``"B"``."""
         return (("A", self.cam_a), ("B", self.cam_b))
+
+    #: Sources that are one for both cams (the machine's centre distance).
+    SHARED_KEYS: ClassVar[tuple[str, ...]] = ("f",)
+
+    def per_cam_key(self, label: str, own: str) -> str:
+        """Return the pair's own key of source ``own`` of cam ``label`` (B's ``rf``: ``rf_d``).
+
+        Parameters
+        ----------
+        label : {"A", "B"}
+            The cam.
+        own : str
+            The cam's source key (``r``, ``n``, ``rf``, ``l``, ``f``, ``eta``).
+
+        Returns
+        -------
+        str
+        """
+        if own in self.SHARED_KEYS:
+            return own
+        for key, value in self._CAM_KEYS[label].items():
+            if value == own and key not in ("r", "n", "rf", "l"):
+                return key
+        return own
+
+    def cam_source_keys(self, label: str) -> dict[str, str]:
+        """Design key -> source of cam ``label``: ``r_a`` is cam A's ``r``, ``rf_d`` cam B's ``rf``.
+
+        ``r``, ``n``, ``rf`` and ``l`` name both cams' sources (the same tolerance on each
+        cam's own, independent source); ``f`` (the centre distance) is one source of both
+        cams; ``eta`` is cam B's (it turns arm B against arm A).
+
+        Parameters
+        ----------
+        label : {"A", "B"}
+            The cam.
+
+        Returns
+        -------
+        dict of str to str
+        """
+        return dict(self._CAM_KEYS[label])
 
     @property
     def roller_d_mm(self) -> float:
@@ -410,8 +477,17 @@ class ConjugatePair(Mechanism):
         return self.pivot_distance_mm
 
     def nominal_size(self, key: str, max_radius_mm: float) -> float:
-        """Cam A's IT-grade nominal sizes."""
-        return self.cam_a.nominal_size(key, max_radius_mm)
+        """IT-grade nominal sizes of the pair's keys (Δη takes an explicit deviation only).
+
+        Per-cam keys take the size of that cam's own source; ``max_radius_mm`` is the
+        profile size of the cam the tolerance is resolved for (each cam resolves its own:
+        :meth:`camtol.design.cam_design.CamDesign.cams`).
+        """
+        for label, cam in self.cams():  # cam A first: a shared key takes cam A's size
+            own = self._CAM_KEYS[label].get(key)
+            if own is not None:
+                return cam.nominal_size(own, max_radius_mm)
+        raise KeyError(key)
 
     def summary(self) -> list[tuple[str, str]]:
         """Parameters with units."""

@@ -80,6 +80,28 @@ class AcceptanceBands:
             return self.df_b_upper_um, self.df_b_lower_um
         raise ValueError(f"cam={cam!r} is not allowed; give 'A' or 'B'")
 
+    def margin_um(self, cam: str, df_mea_um: ArrayLike) -> FloatArray:
+        """Margin of a reading against the band of cam ``cam``: min(Δf − lower, upper − Δf).
+
+        The one rule by which the fixture judges a cam (THEORY §4.3): it passes at θ where
+        the margin is ≥ 0. ``df_mea_um`` may hold several readings (samples × angles).
+
+        Parameters
+        ----------
+        cam : {"A", "B"}
+            The inspected cam.
+        df_mea_um : array_like
+            Δf read on the fixture over the bands' grid (last axis). [µm]
+
+        Returns
+        -------
+        ndarray
+            The margin, shaped as ``df_mea_um``. [µm]
+        """
+        up, lo = self.band_um(cam)
+        mea = np.asarray(df_mea_um, dtype=float)
+        return np.asarray(np.minimum(mea - lo, up - mea))
+
     @staticmethod
     def master_of(cam: str) -> str:
         """Return the master cam that inspects ``cam`` on the fixture (A's is B, B's is A).

@@ -186,24 +186,15 @@ def _inspect(design: CamDesign, spec: FixtureSpec, step_deg: float) -> FixtureIn
                 spec.master_b,
                 spec.errors,
             )
-            mea = df_mea(t)
-            up, lo = (
-                (b.df_a_upper_um, b.df_a_lower_um)
-                if cam == "A"
-                else (b.df_b_upper_um, b.df_b_lower_um)
-            )
-            return np.asarray(np.minimum(mea - lo, up - mea))
+            return b.margin_um(cam, df_mea(t))
 
         return margin
 
     verdicts = {}
-    for cam, (up, lo) in (
-        ("A", (bands.df_a_upper_um, bands.df_a_lower_um)),
-        ("B", (bands.df_b_upper_um, bands.df_b_lower_um)),
-    ):
-        m = np.minimum(est.df_mea_um - lo, up - est.df_mea_um)
-        intervals = failing_intervals(theta, margin_fn(cam))
-        verdicts[cam] = CamVerdict(cam, not intervals, intervals, float(m.min()))
+    for cam in design.cams():
+        m = bands.margin_um(cam.letter, est.df_mea_um)
+        intervals = failing_intervals(theta, margin_fn(cam.letter))
+        verdicts[cam.letter] = CamVerdict(cam.letter, not intervals, intervals, float(m.min()))
     return FixtureInspection(theta, fac, variation, est, bands, verdicts, extremes, predicted)
 
 

@@ -29,7 +29,7 @@ from camtol.exceptions import DesignError
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
 from camtol.mechanisms.conjugate import ConjugatePair
-from camtol.pair.fixture_spec import FixtureErrors
+from camtol.pair.fixture_spec import FixtureErrors, FixtureSpec
 from camtol.pair.kinematics import conjugate_kinematics
 
 __all__ = [
@@ -40,6 +40,8 @@ __all__ = [
     "conjugate_factors",
     "conjugate_variation",
     "constant_parts",
+    "df_sensitivities",
+    "fixture_reading_um",
     "inverse_estimate",
 ]
 
@@ -71,6 +73,20 @@ class ConjugateFactors:
     centre_line_b_rad: FloatArray
     shift_a_rad: FloatArray
     shift_b_rad: FloatArray
+
+    def shift_rad(self, cam: str) -> FloatArray:
+        """λ of cam ``"A"`` or ``"B"`` over θ. [rad]
+
+        Parameters
+        ----------
+        cam : {"A", "B"}
+            The cam's letter.
+
+        Returns
+        -------
+        ndarray
+        """
+        return self.shift_a_rad if cam == "A" else self.shift_b_rad
 
     @property
     def denominator_mm(self) -> FloatArray:
@@ -333,3 +349,72 @@ def inverse_estimate(
     dr_a = (df_r - ev(master_b) * gb) / ga
     dr_b = (df_r - ev(master_a) * ga) / gb
     return InverseEstimate(theta, mea, np.asarray(df_r), np.asarray(dr_a), np.asarray(dr_b))
+
+
+def df_sensitivities(factors: ConjugateFactors) -> dict[str, FloatArray]:
+    """Δf per unit error of each of the pair's sources (THEORY §4.1, linear).
+
+    The same forms as :func:`conjugate_variation` with one error at a time: a radial error
+    of a cam enters through its gain, a normal error through the gain over cos λ (Δr =
+    Δn / cos λ), a roller, an arm and η through :func:`constant_parts`. The centre
+    distance f of the machine does not change f* − f (it is what f* is compared with).
+
+    Parameters
+    ----------
+    factors : ConjugateFactors
+        From :func:`conjugate_factors`.
+
+    Returns
+    -------
+    dict of str to ndarray
+        By the pair's source key (``r_a``, ``n_a``, ``rf_c``, ``l_a``, ``eta``, ... and
+        ``f``): ∂Δf/∂p over θ. [mm per mm, or mm per rad for ``eta``]
+    """
+    zero = np.zeros_like(factors.theta_rad)
+
+    def constant(**unit: float) -> FloatArray:
+        rf, ll, eta = constant_parts(factors, FixtureErrors(**unit))
+        return np.asarray((rf + ll + eta) * 1e-3)
+
+    return {
+        "r_a": factors.gain_a,
+        "r_b": factors.gain_b,
+        "n_a": np.asarray(factors.gain_a / np.cos(factors.shift_a_rad)),
+        "n_b": np.asarray(factors.gain_b / np.cos(factors.shift_b_rad)),
+        "rf_c": constant(drr_c_mm=1.0),
+        "rf_d": constant(drr_d_mm=1.0),
+        "l_a": constant(dl_a_mm=1.0),
+        "l_b": constant(dl_b_mm=1.0),
+        "eta": constant(deta_rad=1.0),
+        "f": zero,
+    }
+
+
+def fixture_reading_um(
+    factors: ConjugateFactors, spec: FixtureSpec, cam: str, dr_um: ArrayLike
+) -> FloatArray:
+    """Δf the fixture reads on cam ``cam`` of radial error Δr against the other cam's master.
+
+    Cam A is measured against master cam B and cam B against master A (THEORY §4.3),
+    with the fixture's own constant errors: Δf_mea = Δf_r(Δr, master) + Δf_rf + Δf_l + Δf_η
+    (:func:`conjugate_variation`).
+
+    Parameters
+    ----------
+    factors : ConjugateFactors
+        The pair's geometry on the grid.
+    spec : FixtureSpec
+        The masters' known errors and the fixture's constant errors.
+    cam : {"A", "B"}
+        The inspected cam.
+    dr_um : array_like
+        Its radial error over the grid (last axis; several cams as rows). [µm]
+
+    Returns
+    -------
+    ndarray
+        The reading, shaped as ``dr_um``. [µm]
+    """
+    if cam == "A":
+        return conjugate_variation(factors, dr_um, spec.master_b, spec.errors).df_est_um
+    return conjugate_variation(factors, spec.master_a, dr_um, spec.errors).df_est_um

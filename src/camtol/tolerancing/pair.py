@@ -1,0 +1,375 @@
+"""A conjugate pair toleranced as a pair: motion errors, interference, backlash, yields.
+
+Before making a thousand pairs a production engineer asks how far the follower's motion
+strays when cam A holds roller C and when cam B holds roller D, how much interference or
+backlash the assembled follower sees, and what fraction of cams the measuring fixture
+accepts ([CW11]). Every source of the pair is an independent random variable
+(:func:`camtol.pair.sources.pair_sources`: each cam's profile, each roller, each arm, the
+arm angle η, the machine's centre distance f, the shaft's phase), and in the linear model
+(THEORY §3, §4.1) each output at one angle is a weighted sum of them:
+
+* ΔS_A(θ), ΔS_B(θ): the follower's motion error with cam A (B) holding its roller, from
+  each cam's closed-form sensitivities (:func:`camtol.analysis.errors.error_analysis`);
+* Δf(θ) = f* − f: the conjugate variation of the assembled pair, the change of centre
+  distance at which both rollers just touch (:func:`camtol.pair.variation
+  .df_sensitivities`). With the machine's centre-distance error Δf₀ (source ``f``),
+  Δf − Δf₀ > 0 is interference (the rollers forced into the cams) and < 0 backlash; per
+  sample ``interference`` = max_θ max(Δf − Δf₀, 0), ``backlash`` = max_θ max(Δf₀ − Δf, 0),
+  both as centre distance.
+* the fixture's verdict on each sampled cam (THEORY §4.3): cam A measured against master
+  B, cam B against master A, with the masters and the fixture's constant errors of the
+  ``[inspection]`` table, judged by the bands' one rule
+  (:meth:`camtol.pair.acceptance.AcceptanceBands.margin_um`) as a measured cam is.
+
+Per-angle mean and σ follow from the sources' moments without sampling; what couples the
+angles (each sample's maxima, interference, backlash, yields) is sampled, chunk by chunk
+with the same random streams as single-cam studies (:func:`~camtol.tolerancing.plan
+.chunk_uniforms`), so the same seed gives the same numbers at any chunking.
+
+References
+----------
+.. [CW11] W.-T. Chang, L.-I. Wu, "A convenient and inexpensive quality control method for
+   examining the accuracy of conjugate cam profiles", in *Wide Spectra of Quality
+   Control*, InTech, 2011, ch. 20. doi:10.5772/23665
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from camtol.analysis.errors import error_analysis
+from camtol.analysis.kinematics import analysis_grid
+from camtol.design.cam_design import CamDesign, ResolvedTolerance
+from camtol.exceptions import DesignError
+from camtol.jet import FloatArray
+from camtol.pair.acceptance import AcceptanceBands, acceptance_bands
+from camtol.pair.fixture_spec import FixtureSpec, fixture_spec
+from camtol.pair.sources import PairSource, pair_sources
+from camtol.pair.variation import (
+    ConjugateFactors,
+    conjugate_factors,
+    df_sensitivities,
+    fixture_reading_um,
+)
+from camtol.tolerancing.model import StatisticalModel, statistical_model
+from camtol.tolerancing.pair_results import (
+    PairMonteCarloResult,
+    SampledSummary,
+    moments,
+)
+from camtol.tolerancing.plan import CHUNK, SamplingPlan, chunk_uniforms
+from camtol.tolerancing.results import YieldEstimate
+
+__all__ = [
+    "PairMonteCarloResult",
+    "PairStudy",
+    "SampledSummary",
+    "pair_monte_carlo",
+    "prepare_pair",
+]
+
+#: Largest number of samples of a pair study (memory is bounded; this bounds time).
+MAX_PAIR_SAMPLES = 10**9
+#: Rows evaluated at once (four angle-by-row blocks of this many rows fit in cache-sized
+#: memory: 1,024 × 3,600 doubles are 29 MB).
+_ROWS = 1024
+
+
+@dataclass(frozen=True)
+class PairStudy:
+    """A conjugate pair prepared for sampling.
+
+    Attributes
+    ----------
+    design : CamDesign
+        The pair's design.
+    theta_rad : ndarray
+        Cam angles. [rad]
+    sources : tuple of PairSource
+        The independent sources, one column each.
+    plan : SamplingPlan
+        Their distributions (the design's ``[statistics]``), one column per source.
+    motion : dict of str to ndarray
+        By cam letter: ∂ΔS/∂p of the follower when that cam holds its roller, shape
+        (angles, columns). [rad per mm, or per rad]
+    df : ndarray
+        ∂Δf/∂p, shape (angles, columns). [mm per mm, or per rad]
+    radial : dict of str to ndarray
+        By cam letter: ∂Δr/∂p of that cam's profile (Δr = Δn / cos λ for a normal error),
+        shape (angles, columns). [mm per mm]
+    centre_column : int or None
+        The column of the machine's centre-distance error Δf₀ (source ``f``).
+    spec : FixtureSpec or None
+        The fixture's inputs (``[inspection]``), for its yield.
+    factors : ConjugateFactors
+        The pair's geometry on the grid.
+    bands : AcceptanceBands or None
+        The fixture's acceptance bands on the grid.
+    readings : dict of str to (ndarray, ndarray)
+        By cam letter: the fixture's reading of the nominal cam (angles,) and its change
+        per unit of each source (angles, columns), both from
+        :func:`camtol.pair.variation.fixture_reading_um` (linear in Δr). [µm]
+    """
+
+    design: CamDesign
+    theta_rad: FloatArray
+    sources: tuple[PairSource, ...]
+    plan: SamplingPlan
+    motion: dict[str, FloatArray]
+    df: FloatArray
+    radial: dict[str, FloatArray]
+    centre_column: int | None
+    spec: FixtureSpec | None
+    factors: ConjugateFactors
+    bands: AcceptanceBands | None
+    readings: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+
+    @property
+    def letters(self) -> tuple[str, ...]:
+        """The cams' letters, in order."""
+        return tuple(self.motion)
+
+
+def prepare_pair(
+    design: CamDesign, *, model: StatisticalModel | None = None, step_deg: float = 0.1
+) -> PairStudy:
+    """Prepare a conjugate pair: its sources, distributions and sensitivities on a θ grid.
+
+    Parameters
+    ----------
+    design : CamDesign
+        A conjugate design with ``[tolerances]``.
+    model : StatisticalModel, optional
+        Distributions; default the design's ``[statistics]`` table (normal, Cp = 1).
+    step_deg : float
+        θ grid step. [deg]
+
+    Returns
+    -------
+    PairStudy
+
+    Raises
+    ------
+    DesignError
+        Not a conjugate design, no toleranced source, a profile process (not yet
+        sampled per cam of a pair), or a tolerance that cannot be resolved.
+    """
+    from camtol.analysis.validity import check_design_geometry
+
+    check_design_geometry(design)
+    sources = pair_sources(design)
+    if not sources:
+        raise DesignError(f"design {design.name!r} has no [tolerances]: nothing to sample")
+    model = statistical_model(design) if model is None else model
+    if model.process is not None:
+        raise DesignError(
+            "statistics.profile_process: a random profile process is sampled for single"
+            " cams only; give the pair's profile tolerances (r_a, r_b) instead"
+        )
+    theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
+    plan = SamplingPlan(
+        labels=tuple(s.key for s in sources),
+        groups=tuple((j, j + 1) for j in range(len(sources))),
+        distributions=tuple(
+            model.distribution(s.design_key).resolve(s.tolerance.deviation, s.tolerance.unit)
+            for s in sources
+        ),
+        deviations=tuple(abs(s.tolerance.deviation) for s in sources),
+        units=tuple(s.tolerance.unit for s in sources),
+        process=None,
+    )
+    factors = conjugate_factors(design, theta)
+    cols = len(sources)
+    motion: dict[str, FloatArray] = {}
+    radial: dict[str, FloatArray] = {}
+    for cam in design.cams():
+        own = {key for s in sources for letter, key in s.cams if letter == cam.letter}
+        unit = {s.key: s.unit for s in cam.design.sources}
+        tols = tuple(ResolvedTolerance(k, 1.0, unit[k], "unit") for k in sorted(own))
+        err = error_analysis(cam.design, tols, theta, left_limit=left)
+        g = np.zeros((theta.size, cols))
+        r = np.zeros((theta.size, cols))
+        cos_shift = np.cos(factors.shift_rad(cam.letter))
+        for j, s in enumerate(sources):
+            for letter, key in s.cams:
+                if letter != cam.letter:
+                    continue
+                g[:, j] = err.sources[key].delta_lift
+                profile = cam.design.source(key).profile
+                if profile == "radial":
+                    r[:, j] = 1.0
+                elif profile == "normal":
+                    r[:, j] = 1.0 / cos_shift
+        motion[cam.letter] = g
+        radial[cam.letter] = r
+    per_key = df_sensitivities(factors)
+    df = np.zeros((theta.size, cols))
+    for j, s in enumerate(sources):
+        if s.key in per_key:
+            df[:, j] = per_key[s.key]
+    centre = next((j for j, s in enumerate(sources) if s.key == "f"), None)
+    spec = fixture_spec(design)
+    bands = None
+    readings: dict[str, tuple[FloatArray, FloatArray]] = {}
+    if spec is not None:
+        bands = acceptance_bands(
+            factors,
+            spec.tolerance_a_um,
+            spec.tolerance_b_um,
+            spec.master_a,
+            spec.master_b,
+            spec.errors,
+        )
+        for letter, g in radial.items():
+            # the reading is affine in the cam's radial error: nominal + Σ x_j ∂/∂x_j
+            nominal = fixture_reading_um(factors, spec, letter, np.zeros_like(theta))
+            per_unit = fixture_reading_um(factors, spec, letter, g.T * 1e3) - nominal
+            readings[letter] = (nominal, np.ascontiguousarray(per_unit.T))
+    return PairStudy(
+        design, theta, sources, plan, motion, df, radial, centre, spec, factors, bands, readings
+    )
+
+
+def pair_monte_carlo(
+    design: CamDesign,
+    samples: int,
+    *,
+    seed: int = 0,
+    model: StatisticalModel | None = None,
+    step_deg: float = 0.1,
+    interference_max_mm: float | None = None,
+    backlash_max_mm: float | None = None,
+) -> PairMonteCarloResult:
+    """Tolerance a conjugate pair as a pair, in the linear model (module docstring).
+
+    Parameters
+    ----------
+    design : CamDesign
+        A conjugate design; its ``[inspection]`` table, when given, makes the fixture
+        yield.
+    samples : int
+        Pairs sampled (≥ 1).
+    seed : int
+        Seed; chunk c of 4096 samples uses ``SeedSequence(seed, spawn_key=(c,))``.
+    model : StatisticalModel, optional
+        Distributions; default the design's ``[statistics]`` table.
+    step_deg : float
+        θ grid step. [deg]
+    interference_max_mm, backlash_max_mm : float, optional
+        Limits of the pair yield (both or neither). [mm]
+
+    Returns
+    -------
+    PairMonteCarloResult
+
+    Raises
+    ------
+    DesignError
+        Bad samples, seed or limits, or a design that cannot be sampled as a pair.
+    """
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 1:
+        raise DesignError(f"samples={samples!r} is not allowed; give a whole number ≥ 1")
+    if samples > MAX_PAIR_SAMPLES:
+        raise DesignError(f"samples={samples} is not allowed; at most {MAX_PAIR_SAMPLES:.0e}")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise DesignError(f"seed={seed!r} is not allowed; give a whole number ≥ 0")
+    limits = (interference_max_mm, backlash_max_mm)
+    if (limits[0] is None) != (limits[1] is None):
+        raise DesignError(
+            "the pair yield needs both limits: give the largest interference and the largest"
+            " backlash (--interference-max-um and --backlash-max-um)"
+        )
+    for name, value in zip(("interference", "backlash"), limits, strict=True):
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise DesignError(f"the largest {name} {value!r} is not allowed; it must be ≥ 0")
+    study = prepare_pair(design, model=model, step_deg=step_deg)
+    letters = study.letters
+    n = int(samples)
+    max_abs = {letter: np.empty(n) for letter in letters}
+    interference = np.empty(n)
+    backlash = np.empty(n)
+    accepted = {letter: np.zeros(n, dtype=bool) for letter in letters}
+    plan = study.plan
+    for c in range(-(-n // CHUNK)):
+        size = min(CHUNK, n - c * CHUNK)
+        x_chunk = plan.sample(chunk_uniforms(int(seed), c, size, plan.uniforms))
+        for a in range(0, size, _ROWS):
+            x = x_chunk[a : a + _ROWS]
+            rows = slice(c * CHUNK + a, c * CHUNK + a + x.shape[0])
+            _evaluate_rows(study, x, rows, max_abs, interference, backlash, accepted)
+    df = moments(study.df, plan)
+    worst = int(np.argmax(np.abs(df.mean) + 3.0 * df.std))
+    contributions = dict(
+        sorted(
+            ((lab, float(v[worst])) for lab, v in df.shares.items()),
+            key=lambda kv: -kv[1],
+        )
+    )
+    fixture_yield = {}
+    if study.bands is not None:
+        fixture_yield = {k: YieldEstimate.of(int(v.sum()), n) for k, v in accepted.items()}
+    pair_yield = None
+    if interference_max_mm is not None and backlash_max_mm is not None:
+        ok = (interference <= interference_max_mm) & (backlash <= backlash_max_mm)
+        pair_yield = YieldEstimate.of(int(ok.sum()), n)
+    notes = [
+        "deterministic (from the sources' moments, no sampling noise): per-angle mean and σ"
+        " of ΔS_A, ΔS_B and Δf, and Δf's variance shares",
+        f"sampled ({n} pairs): max |ΔS| per cam, interference, backlash, fixture and pair"
+        " yields (yields with Clopper-Pearson 95 % intervals)",
+        "linear model (THEORY §3, §4.1): each source varies in ±Δ of its resolved tolerance",
+    ]
+    if n < 1000:
+        notes.append(f"only {n} samples: the sampled quantiles and yields are rough")
+    if study.bands is None:
+        notes.append("no [inspection] table: no fixture yield")
+    return PairMonteCarloResult(
+        design_name=design.name,
+        samples=n,
+        seed=int(seed),
+        theta_deg=np.degrees(study.theta_rad),
+        motion={letter: moments(g, plan) for letter, g in study.motion.items()},
+        df=df,
+        max_abs_motion={k: SampledSummary.of(v) for k, v in max_abs.items()},
+        interference_mm=SampledSummary.of(interference),
+        backlash_mm=SampledSummary.of(backlash),
+        fixture_yield=fixture_yield,
+        pair_yield=pair_yield,
+        interference_max_mm=interference_max_mm,
+        backlash_max_mm=backlash_max_mm,
+        df_worst_angle_deg=float(np.degrees(study.theta_rad[worst])),
+        df_contributions=contributions,
+        sources=study.sources,
+        plan=plan,
+        notes=tuple(notes),
+    )
+
+
+def _evaluate_rows(
+    study: PairStudy,
+    x: FloatArray,
+    rows: slice,
+    max_abs: dict[str, FloatArray],
+    interference: FloatArray,
+    backlash: FloatArray,
+    accepted: dict[str, NDArray[np.bool_]],
+) -> None:
+    """Evaluate a block of sampled pairs (rows of ``x``) into the per-sample arrays."""
+    for letter, g in study.motion.items():
+        y = x @ g.T
+        max_abs[letter][rows] = np.maximum(y.max(axis=1), -y.min(axis=1))
+    df = x @ study.df.T
+    if study.centre_column is not None:
+        df -= x[:, study.centre_column][:, None]  # Δf − Δf₀
+    interference[rows] = np.maximum(df.max(axis=1), 0.0)
+    backlash[rows] = np.maximum(-df.min(axis=1), 0.0)
+    if study.bands is None:
+        return
+    for letter, (nominal, per_unit) in study.readings.items():
+        reading = x @ per_unit.T
+        reading += nominal
+        accepted[letter][rows] = study.bands.margin_um(letter, reading).min(axis=1) >= 0.0
