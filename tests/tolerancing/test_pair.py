@@ -201,3 +201,63 @@ def test_a_pair_source_on_a_single_cam_is_refused() -> None:
         dataclasses.replace(d, tolerances=(ToleranceSpec("r_a", grade="IT6"),))
     with pytest.raises(DesignError, match="conjugate design"):
         pair_monte_carlo(d, 10)
+
+
+def test_exact_minus_linear_shrinks_four_times_when_tolerances_halve() -> None:
+    """The exact pair (both cams and the fixture followed as made) against the linear one."""
+    from camtol.pair.as_made import follow_pair_as_made
+
+    study = prepare_pair(PAIR, step_deg=1.0)
+    x = study.plan.sample(chunk_uniforms(0, 0, 3, study.plan.uniforms))
+    gaps = []
+    for k in (1.0, 0.5):
+        worst = np.zeros(3)
+        for row in x * k:
+            values = dict(zip(study.plan.labels, row.tolist(), strict=True))
+            out = follow_pair_as_made(PAIR, study.sources, values, study.theta_rad)
+            worst = np.maximum(
+                worst,
+                [
+                    np.abs(out.df_mm - row @ study.df.T).max(),
+                    np.abs(out.motion["A"] - row @ study.motion["A"].T).max(),
+                    np.abs(out.motion["B"] - row @ study.motion["B"].T).max(),
+                ],
+            )
+        gaps.append(worst)
+    ratio = gaps[0] / gaps[1]
+    # second order: the gap falls by 4 when the deviations halve (3.5-4.5: higher orders)
+    assert np.all((ratio > 3.5) & (ratio < 4.5)), ratio
+    assert gaps[0][0] < 1e-2 * np.abs(x @ study.df.T).max()  # and it is small
+
+
+def test_exact_mode_agrees_with_linear_on_the_sampled_figures() -> None:
+    lin = pair_monte_carlo(PAIR, 12, step_deg=2.0, seed=5)
+    ex = pair_monte_carlo(PAIR, 12, step_deg=2.0, seed=5, mode="exact")
+    # the same samples: interference and backlash within the second-order gap (< 0.1 µm)
+    assert ex.interference_mm.max == pytest.approx(lin.interference_mm.max, abs=1e-4)
+    assert ex.backlash_mm.max == pytest.approx(lin.backlash_mm.max, abs=1e-4)
+    assert {k: v.value for k, v in ex.fixture_yield.items()} == {
+        k: v.value for k, v in lin.fixture_yield.items()
+    }
+    assert any("exact mode" in n for n in ex.notes)
+    with pytest.raises(DesignError, match="mode"):
+        pair_monte_carlo(PAIR, 2, mode="fast")
+
+
+def test_deterministic_quantiles_of_a_symmetric_sum() -> None:
+    """Symmetric sources: the median is the mean; the 99.865 % point lies within 3σ."""
+    res = pair_monte_carlo(PAIR, 16, step_deg=2.0)
+    for m in (res.df, res.motion["A"], res.motion["B"]):
+        np.testing.assert_allclose(m.q50, m.mean, atol=float(m.tolerance.max()) + 1e-15)
+        assert np.all(m.q99865 <= m.mean + 3.0 * m.std + m.tolerance + 1e-15)
+        assert np.all(m.q00135 <= m.q50) and np.all(m.q50 <= m.q99865)
+    cols = res.curves_columns()
+    assert list(cols)[:6] == [
+        "theta_deg",
+        "df_mean_um",
+        "df_std_um",
+        "df_q00135_um",
+        "df_q50_um",
+        "df_q99865_um",
+    ]
+    assert "dS_A_q99865_deg" in cols and "dS_B_std_deg" in cols

@@ -24,7 +24,11 @@ __all__ = ["AngleMoments", "PairMonteCarloResult", "SampledSummary", "moments"]
 
 @dataclass(frozen=True)
 class AngleMoments:
-    """Mean and σ of a linear output at every angle, from the sources' moments.
+    """The distribution of a linear output at every angle, without sampling noise.
+
+    Mean and σ are closed forms of the sources' moments; the quantiles come from the
+    convolution of the sources' densities (:func:`camtol.tolerancing.convolution
+    .angle_distributions`), each within ``tolerance`` of the exact one.
 
     Attributes
     ----------
@@ -32,11 +36,19 @@ class AngleMoments:
         Over θ, in the output's internal unit. [mm or rad]
     shares : dict of str to ndarray
         Each source's share of the variance at every angle, (s_k σ_k)² / Σ. [-]
+    q00135, q50, q99865 : ndarray
+        The 0.135 %, 50 % and 99.865 % quantiles over θ. [mm or rad]
+    tolerance : ndarray
+        Bound on the numerical error of every quantile at each angle. [mm or rad]
     """
 
     mean: FloatArray
     std: FloatArray
     shares: dict[str, FloatArray]
+    q00135: FloatArray
+    q50: FloatArray
+    q99865: FloatArray
+    tolerance: FloatArray
 
 
 def moments(g: FloatArray, plan: SamplingPlan) -> AngleMoments:
@@ -53,12 +65,15 @@ def moments(g: FloatArray, plan: SamplingPlan) -> AngleMoments:
     -------
     AngleMoments
     """
-    mean = g @ plan.column_mean()
+    from camtol.tolerancing.convolution import angle_distributions
+
     part = g * g * plan.column_variance()[None, :]
     total = part.sum(axis=1)
     safe = np.where(total > 0, total, 1.0)
     shares = {lab: np.where(total > 0, part[:, j] / safe, 0.0) for j, lab in enumerate(plan.labels)}
-    return AngleMoments(np.asarray(mean), np.sqrt(total), shares)
+    dist = angle_distributions(g, plan)
+    low, mid, high = dist.quantiles
+    return AngleMoments(dist.mean, np.sqrt(total), shares, low, mid, high, dist.tolerance)
 
 
 @dataclass(frozen=True)
@@ -214,13 +229,14 @@ class PairMonteCarloResult:
         Returns
         -------
         dict of str to ndarray
-            ``theta_deg``, ``df_mean_um``, ``df_std_um``, then per cam
-            ``dS_<cam>_mean_deg``, ``dS_<cam>_std_deg``.
+            ``theta_deg``; ``df_<stat>_um`` and, per cam, ``dS_<cam>_<stat>_deg`` for
+            each of mean, std, q00135, q50, q99865 (deterministic).
         """
+        stats = ("mean", "std", "q00135", "q50", "q99865")
         out: dict[str, FloatArray] = {"theta_deg": self.theta_deg}
-        out["df_mean_um"] = self.df.mean * 1e3
-        out["df_std_um"] = self.df.std * 1e3
+        for stat in stats:
+            out[f"df_{stat}_um"] = getattr(self.df, stat) * 1e3
         for letter, m in self.motion.items():
-            out[f"dS_{letter}_mean_deg"] = np.degrees(m.mean)
-            out[f"dS_{letter}_std_deg"] = np.degrees(m.std)
+            for stat in stats:
+                out[f"dS_{letter}_{stat}_deg"] = np.degrees(getattr(m, stat))
         return out
