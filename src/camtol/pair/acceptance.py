@@ -21,7 +21,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.jet import FloatArray
@@ -80,7 +80,9 @@ class AcceptanceBands:
             return self.df_b_upper_um, self.df_b_lower_um
         raise ValueError(f"cam={cam!r} is not allowed; give 'A' or 'B'")
 
-    def margin_um(self, cam: str, df_mea_um: ArrayLike) -> FloatArray:
+    def margin_um(
+        self, cam: str, df_mea_um: ArrayLike, *, at: NDArray[np.intp] | None = None
+    ) -> FloatArray:
         """Margin of a reading against the band of cam ``cam``: min(Δf − lower, upper − Δf).
 
         The one rule by which the fixture judges a cam (THEORY §4.3): it passes at θ where
@@ -91,7 +93,10 @@ class AcceptanceBands:
         cam : {"A", "B"}
             The inspected cam.
         df_mea_um : array_like
-            Δf read on the fixture over the bands' grid (last axis). [µm]
+            Δf read on the fixture over the bands' grid (last axis), or at the grid
+            indices ``at``. [µm]
+        at : ndarray of int, optional
+            Indices of the grid angles the reading is given at (default: every angle).
 
         Returns
         -------
@@ -99,6 +104,8 @@ class AcceptanceBands:
             The margin, shaped as ``df_mea_um``. [µm]
         """
         up, lo = self.band_um(cam)
+        if at is not None:
+            up, lo = up[at], lo[at]
         mea = np.asarray(df_mea_um, dtype=float)
         return np.asarray(np.minimum(mea - lo, up - mea))
 

@@ -111,10 +111,11 @@ class PairStudy:
         The pair's geometry on the grid.
     bands : AcceptanceBands or None
         The fixture's acceptance bands on the grid.
-    readings : dict of str to (ndarray, ndarray)
-        By cam letter: the fixture's reading of the nominal cam (angles,) and its change
-        per unit of each source (angles, columns), both from
-        :func:`camtol.pair.variation.fixture_reading_um` (linear in Δr). [µm]
+    readings : dict of str to (ndarray, ndarray, ndarray)
+        By cam letter: the fixture's reading of the nominal cam and its change per unit
+        of each source (angles, columns), both from
+        :func:`camtol.pair.variation.fixture_reading_um` (linear in Δr), at the grid
+        angles that decide every verdict (the third array; :func:`_deciding_angles`). [µm]
     """
 
     design: CamDesign
@@ -128,7 +129,9 @@ class PairStudy:
     spec: FixtureSpec | None
     factors: ConjugateFactors
     bands: AcceptanceBands | None
-    readings: dict[str, tuple[FloatArray, FloatArray]] = field(default_factory=dict)
+    readings: dict[str, tuple[FloatArray, FloatArray, NDArray[np.intp]]] = field(
+        default_factory=dict
+    )
 
     @property
     def letters(self) -> tuple[str, ...]:
@@ -216,7 +219,7 @@ def prepare_pair(
     centre = next((j for j, s in enumerate(sources) if s.key == "f"), None)
     spec = fixture_spec(design)
     bands = None
-    readings: dict[str, tuple[FloatArray, FloatArray]] = {}
+    readings: dict[str, tuple[FloatArray, FloatArray, NDArray[np.intp]]] = {}
     if spec is not None:
         bands = acceptance_bands(
             factors,
@@ -230,7 +233,8 @@ def prepare_pair(
             # the reading is affine in the cam's radial error: nominal + Σ x_j ∂/∂x_j
             nominal = fixture_reading_um(factors, spec, letter, np.zeros_like(theta))
             per_unit = fixture_reading_um(factors, spec, letter, g.T * 1e3) - nominal
-            readings[letter] = (nominal, np.ascontiguousarray(per_unit.T))
+            at = _deciding_angles(per_unit.T, nominal, bands.band_um(letter))
+            readings[letter] = (nominal[at], np.ascontiguousarray(per_unit.T[at]), at)
     return PairStudy(
         design, theta, sources, plan, motion, df, radial, centre, spec, factors, bands, readings
     )
@@ -387,10 +391,11 @@ def _evaluate_rows(
     backlash[rows] = np.maximum(-df.min(axis=1), 0.0)
     if study.bands is None:
         return
-    for letter, (nominal, per_unit) in study.readings.items():
+    for letter, (nominal, per_unit, at) in study.readings.items():
         reading = x @ per_unit.T
         reading += nominal
-        accepted[letter][rows] = study.bands.margin_um(letter, reading).min(axis=1) >= 0.0
+        margin = study.bands.margin_um(letter, reading, at=at)
+        accepted[letter][rows] = margin.min(axis=1) >= 0.0
 
 
 def _exact_rows(
@@ -421,3 +426,54 @@ def _exact_rows(
         )
         for letter, reading in readings.items():
             accepted[letter][start + i] = study.bands.margin_um(letter, reading).min() >= 0.0
+
+
+def _deciding_angles(
+    per_unit: FloatArray, nominal: FloatArray, band: tuple[FloatArray, FloatArray]
+) -> NDArray[np.intp]:
+    """Return the grid angles that decide the fixture's verdict on any sampled cam (exact).
+
+    The reading is affine in the few columns that move the cam's profile: r(θ) = R0(θ) +
+    Σ_j x_j R_j(θ). The cam passes iff min over θ of r − lower and of upper − r is ≥ 0;
+    each is the minimum over θ of a linear function of (x_J, 1) in the points
+    (±R_J(θ), ±R0(θ) ∓ limit(θ)), which is reached at a vertex of their convex hull. So
+    only the hull's vertex angles decide; the others never do (a reduction, not an
+    approximation). With more than two profile columns, or a flat hull, every angle.
+    """
+    every = np.arange(per_unit.shape[0])
+    cols = np.flatnonzero(np.any(per_unit != 0.0, axis=0))
+    if cols.size == 0:
+        return every
+    if cols.size > 2:
+        return every
+
+    up, lo = band
+    keep: list[NDArray[np.intp]] = []
+    for sign, offset in ((1.0, nominal - lo), (-1.0, up - nominal)):
+        vertices = _hull_vertices(np.column_stack([sign * per_unit[:, cols], offset]))
+        if vertices is None:
+            return every
+        keep.append(vertices)
+    return np.unique(np.concatenate(keep))
+
+
+def _hull_vertices(points: FloatArray) -> NDArray[np.intp] | None:
+    """Vertices of the convex hull of points in their affine span (None: qhull failed).
+
+    Points on a line (a cam judged on Δr alone: its reading and band are proportional)
+    have the two ends as vertices; in a plane or space, qhull's vertices.
+    """
+    centred = points - points.mean(axis=0)
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    rank = int(np.count_nonzero(sv > 1e-12 * max(sv[0], 1e-300))) if sv.size else 0
+    if rank == 0:
+        return np.array([0])
+    p = centred @ vt[:rank].T
+    if rank == 1:
+        return np.unique([int(np.argmin(p[:, 0])), int(np.argmax(p[:, 0]))])
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.asarray(ConvexHull(p).vertices)
+    except (QhullError, ValueError):
+        return None
