@@ -250,6 +250,7 @@ def pair_monte_carlo(
     interference_max_mm: float | None = None,
     backlash_max_mm: float | None = None,
     mode: str = "linear",
+    quantiles: bool = True,
 ) -> PairMonteCarloResult:
     """Tolerance a conjugate pair as a pair, in the linear model (module docstring).
 
@@ -272,6 +273,9 @@ def pair_monte_carlo(
         How each sample's maxima, interference, backlash and fixture verdicts are found:
         from the closed-form sensitivities, or by following the pair as made exactly
         (:mod:`camtol.pair.as_made`; per-angle moments stay the linear model's).
+    quantiles : bool
+        Compute the per-angle quantiles (the convolution); an allocation's candidates
+        need only the sampled figures and leave them out (NaN).
 
     Returns
     -------
@@ -320,7 +324,7 @@ def pair_monte_carlo(
             rows = slice(c * CHUNK + a, c * CHUNK + a + x.shape[0])
             evaluate = _evaluate_rows if mode == "linear" else _exact_rows
             evaluate(study, x, rows, max_abs, interference, backlash, accepted)
-    df = moments(study.df, plan)
+    df = moments(study.df, plan, quantiles=quantiles)
     worst = int(np.argmax(np.abs(df.mean) + 3.0 * df.std))
     contributions = dict(
         sorted(
@@ -354,7 +358,9 @@ def pair_monte_carlo(
         samples=n,
         seed=int(seed),
         theta_deg=np.degrees(study.theta_rad),
-        motion={letter: moments(g, plan) for letter, g in study.motion.items()},
+        motion={
+            letter: moments(g, plan, quantiles=quantiles) for letter, g in study.motion.items()
+        },
         df=df,
         max_abs_motion={k: SampledSummary.of(v) for k, v in max_abs.items()},
         interference_mm=SampledSummary.of(interference),

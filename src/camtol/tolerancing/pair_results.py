@@ -51,7 +51,7 @@ class AngleMoments:
     tolerance: FloatArray
 
 
-def moments(g: FloatArray, plan: SamplingPlan) -> AngleMoments:
+def moments(g: FloatArray, plan: SamplingPlan, *, quantiles: bool = True) -> AngleMoments:
     """Mean, σ and variance shares of Σ_j g_j(θ) x_j over θ (independent columns).
 
     Parameters
@@ -60,6 +60,8 @@ def moments(g: FloatArray, plan: SamplingPlan) -> AngleMoments:
         Sensitivities, shape (angles, columns). [output unit per column unit]
     plan : SamplingPlan
         The columns' distributions.
+    quantiles : bool
+        Also the quantiles (the convolution); without, they are NaN.
 
     Returns
     -------
@@ -71,6 +73,10 @@ def moments(g: FloatArray, plan: SamplingPlan) -> AngleMoments:
     total = part.sum(axis=1)
     safe = np.where(total > 0, total, 1.0)
     shares = {lab: np.where(total > 0, part[:, j] / safe, 0.0) for j, lab in enumerate(plan.labels)}
+    if not quantiles:
+        nan = np.full(g.shape[0], np.nan)
+        mean = np.asarray(g @ plan.column_mean())
+        return AngleMoments(mean, np.sqrt(total), shares, nan, nan, nan, nan)
     dist = angle_distributions(g, plan)
     low, mid, high = dist.quantiles
     return AngleMoments(dist.mean, np.sqrt(total), shares, low, mid, high, dist.tolerance)
