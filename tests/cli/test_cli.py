@@ -215,7 +215,7 @@ def test_plot_at_a_chosen_angle(tmp_path: Path, capsys: pytest.CaptureFixture[st
     "args",
     [
         ["analyze", "--example", "cw06-translating"],  # tables printed by rich
-        ["montecarlo", "--example", "cw06-oscillating", "--samples", "500"],  # click.echo
+        ["montecarlo", "--example", "cw06-oscillating", "--samples", "1000"],  # click.echo
     ],
 )
 def test_reader_leaving_early_is_quiet(args: list[str]) -> None:

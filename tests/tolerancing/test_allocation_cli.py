@@ -89,7 +89,15 @@ def test_cli_montecarlo_files(tmp_path: Path, capsys):
     out = json.loads(capsys.readouterr().out)
     for key in ("samples", "seed", "mode", "max_abs_dS", "yield", "contributions", "comparison"):
         assert key in out
-    assert set(out["max_abs_dS"]) == {"mean", "std", "q00135", "q50", "q99865"}
+    assert set(out["max_abs_dS"]) == {
+        "mean",
+        "std",
+        "q00135",
+        "q50",
+        "q99865",
+        "method",  # sampled (issue 28): with its 95 % intervals
+        "ci95",
+    }
     assert len(out["yield"]["ci95"]) == 2
     assert {c["source"] for c in out["contributions"]} == {"r", "e", "phi"}
     assert out["comparison"][-1]["source"] == "combined"
@@ -104,6 +112,8 @@ def test_cli_montecarlo_files(tmp_path: Path, capsys):
         "share_r",
         "share_e",
         "share_phi",
+        "dS_tolerance_um",  # issue 28: the bound on the deterministic quantiles' error
+        "p_out",  # and the probability of leaving the spec at each angle
     ]
     assert png.stat().st_size > 0
 

@@ -1,7 +1,12 @@
 """``camtol montecarlo`` and ``camtol allocate``: statistical tolerance design (issue 11).
 
 Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 0 ok, 2 on bad input
-(one line on stderr, nothing written). Files and keys: docs/tolerancing.md.
+(one line on stderr, nothing written). Files and keys: docs/tolerancing.md; a conjugate
+pair is handed to :mod:`camtol.cli.pair_tolerancing` (docs/pair-tolerancing.md).
+
+Why one module: the two commands are one command group's options over one study: the
+spec or band of ΔS, the seed, the grid and the progress display are parsed and checked
+by the same helpers here, and both hand a conjugate pair over at the same point.
 """
 
 from __future__ import annotations
@@ -120,105 +125,15 @@ def band_option(
     return read_band_csv(band, design.mechanism.output)
 
 
-def curves_csv(shown: Any) -> str:
-    """Return the ``--curves`` CSV text: one row per angle (docs/tolerancing.md).
-
-    Parameters
-    ----------
-    shown : MonteCarloDisplay
-        The study in display units (:func:`camtol.report.tolerancing_display.display_montecarlo`).
-
-    Returns
-    -------
-    str
-        The CSV text, ΔS columns in µm or degrees.
-    """
-    result = shown.result
-    s = shown.statistics["lift"]
-    u = s.unit
-    cols = ["theta_deg"] + [f"dS_{k}_{u}" for k in ("mean", "std", "q00135", "q50", "q99865")]
-    cols += [f"share_{k}" for k in result.shares]
-    import numpy as np
-
-    from camtol.report.csv_text import csv_text
-
-    arrays = [result.theta_deg, s.mean, s.std, s.q00135, s.q50, s.q99865, *result.shares.values()]
-    return csv_text(cols, np.column_stack(arrays), digits=9)
-
-
 def _plot(shown: Any, path: str) -> None:
     from pathlib import Path
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from camtol.files import atomic_output
-    from camtol.report.tolerancing import draw_limits
+    from camtol.report.tolerancing import montecarlo_figure
 
-    result = shown.result
-    s = shown.statistics["lift"]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    t = result.theta_deg
-    ax.fill_between(t, s.q00135, s.q99865, alpha=0.3, label="0.135-99.865 % band")
-    ax.plot(t, s.mean, label="mean")
-    ax.plot(t, s.q50, ":", label="median")
-    draw_limits(ax, shown)
-    ax.set_xlabel("cam angle θ [deg]")
-    ax.set_ylabel(f"ΔS [{s.unit}]")
-    ax.set_xlim(0, 360)
-    ax.set_title(f"{result.design_name}: Monte Carlo ({result.mode}, {result.samples} samples)")
-    ax.legend(loc="best")
-    fig.tight_layout()
+    fig = montecarlo_figure(shown)
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format=Path(path).suffix.lstrip(".").lower())
-    plt.close(fig)
-
-
-def _print(shown: Any) -> None:
-    echo = click.echo
-    result = shown.result
-    s = shown.statistics["lift"]
-    u = s.unit
-    echo(
-        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
-        f" seed {result.seed}"
-    )
-    for k, v in shown.sources.items():
-        echo(f"  source {k:<10} {v}")
-    for q in ("velocity", "acceleration"):
-        if q in shown.statistics:
-            v = shown.statistics[q]
-            echo(
-                f"  max |d{q[0].upper()}| [{v.unit}]: mean {v.max_abs.mean:.4g},"
-                f" 99.865 % {v.max_abs.q99865:.4g}"
-            )
-    m = s.max_abs
-    echo(
-        f"  max |dS| [{u}]: mean {m.mean:.4g}, std {m.std:.4g}, 0.135 % {m.q00135:.4g},"
-        f" median {m.q50:.4g}, 99.865 % {m.q99865:.4g}"
-    )
-    y = result.yield_estimate
-    if y is not None:
-        echo(
-            f"  yield ({shown.yield_spec}): {y.value:.4%}"
-            f"  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
-        )
-    echo(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
-    for c in result.contributions:
-        echo(f"    {c.source:<12}{c.variance_share:>8.1%}")
-    echo(f"  {'source':<12}{'worst case':>12}{'RSS':>10}{'MC 99.73 %':>12}   [{u}]")
-    for r in shown.comparison:
-        echo(f"  {r.source:<12}{r.worst_case:>12.4g}{r.rss:>10.4g}{r.mc_9973:>12.4g}")
-    if shown.difference is not None:
-        d = shown.difference
-        echo(
-            f"  exact - linear (max over θ) [{u}]: mean {d.mean:.3g}, std {d.std:.3g},"
-            f" q0.135 % {d.q00135:.3g}, q99.865 % {d.q99865:.3g}, any sample {d.max_sample:.3g}"
-        )
-    for n in shown.notes:
-        echo(f"  note: {n}")
 
 
 @click.command()
@@ -254,6 +169,24 @@ def _print(shown: Any) -> None:
 @click.option(
     "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."
 )
+@click.option(
+    "--interference-max-um",
+    type=float,
+    metavar="UM",
+    help="Conjugate pair: largest interference of the pair yield [µm].",
+)
+@click.option(
+    "--backlash-max-um",
+    type=float,
+    metavar="UM",
+    help="Conjugate pair: largest backlash of the pair yield [µm].",
+)
+@click.option(
+    "--sobol",
+    type=Number(low=64, high=100_000, integer=True),
+    metavar="N",
+    help="Exact Sobol indices with N rows (conjugate pair; THEORY §5).",
+)
 def montecarlo(
     design: str | None,
     example: str | None,
@@ -270,13 +203,55 @@ def montecarlo(
     scheduler: str | None,
     workers: int,
     derivatives: bool,
+    interference_max_um: float | None,
+    backlash_max_um: float | None,
+    sobol: int | None,
 ) -> None:
-    """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions."""
+    """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.
+
+    A conjugate pair is toleranced as a pair (docs/pair-tolerancing.md): both cams'
+    motion errors, the conjugate variation Δf, interference and backlash against the
+    machine's centre distance (the pair yield with --interference-max-um and
+    --backlash-max-um), and the fixture's yield of each cam.
+    """
 
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         d = load_input(design, example)
+        from camtol.cli.pair_tolerancing import (
+            pair_montecarlo,
+            refuse_pair_flags,
+            refuse_single_cam_flags,
+        )
+        from camtol.pair.kinematics import is_pair
+
+        if is_pair(d):
+            refuse_pair_flags(
+                {
+                    "--spec-um": spec_um,
+                    "--spec-deg": spec_deg,
+                    "--band": band,
+                    "--plot": plot,
+                    "--scheduler": scheduler,
+                    "--derivatives": derivatives or None,
+                }
+            )
+            return pair_montecarlo(
+                d,
+                samples=samples,
+                mode=mode,
+                seed=seed,
+                step_deg=step_deg,
+                interference_max_um=interference_max_um,
+                backlash_max_um=backlash_max_um,
+                sobol=sobol,
+                as_json=as_json,
+                curves=curves,
+            )
+        refuse_single_cam_flags(interference_max_um, backlash_max_um, d.mechanism.kind)
+        if sobol is not None:
+            fail("--sobol is computed for a conjugate pair only (camtol.tolerancing.sobol)")
         spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         limits = band_option(d, band, spec)
         from camtol.tolerancing import monte_carlo
@@ -298,6 +273,10 @@ def montecarlo(
         from camtol.report.tolerancing_display import display_montecarlo
 
         shown = display_montecarlo(res, d)
+        for w in res.warnings:
+            click.echo(f"warning: {w}", err=True)
+        from camtol.report.tolerancing_text import curves_csv, montecarlo_lines
+
         if curves:
             from camtol.files import atomic_write
 
@@ -307,10 +286,23 @@ def montecarlo(
         if as_json:
             echo_json(shown.to_dict(), command="montecarlo")
         else:
-            _print(shown)
+            for line in montecarlo_lines(shown):
+                click.echo(line)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+def _warn_unmet(res: Any) -> None:
+    """One line on stderr when the verified yield's interval lies below the target."""
+    if not res.met:
+        y = res.verified
+        click.echo(
+            f"warning: the verified yield {y.value:.4%} (95 % CI [{y.ci95[0]:.4%},"
+            f" {y.ci95[1]:.4%}]) is below the target {res.target_yield:.4%}: the allocation"
+            " does not meet it",
+            err=True,
+        )
 
 
 @click.command()
@@ -324,17 +316,22 @@ def montecarlo(
 )
 @click.option(
     "--criterion",
-    type=click.Choice(["worst_case", "rss", "monte_carlo"]),
+    type=click.Choice(["worst_case", "rss", "monte_carlo", "pair_yield"]),
     default="worst_case",
     show_default=True,
+    help="pair_yield: a conjugate pair's interference and backlash (with their limits).",
 )
+@click.option(
+    "--interference-max-um", type=float, metavar="UM", help="pair_yield: largest interference."
+)
+@click.option("--backlash-max-um", type=float, metavar="UM", help="pair_yield: largest backlash.")
 @click.option(
     "--yield",
     "target_yield",
     type=Number(low=0, low_open=True, high=1, high_open=True),
     default=0.9973,
     show_default=True,
-    help="Yield target of the monte_carlo criterion (0-1).",
+    help="Yield target of the monte_carlo criterion and of the verification (0-1).",
 )
 @click.option("--grades", default="IT5-IT12", show_default=True, help="Grade range, e.g. IT5-IT12.")
 @click.option(
@@ -356,7 +353,7 @@ def montecarlo(
     type=Number(low=1, integer=True),
     default=20000,
     show_default=True,
-    help="Samples per candidate (monte_carlo) .",
+    help="Samples per candidate (monte_carlo), at most 1e10 as for montecarlo.",
 )
 @click.option(
     "--verify-samples", type=Number(low=1, integer=True), default=20000, show_default=True
@@ -378,14 +375,29 @@ def allocate(
     verify_samples: int,
     seed: int,
     as_json: bool,
+    interference_max_um: float | None,
+    backlash_max_um: float | None,
 ) -> None:
     """Choose the coarsest (cheapest) IT grade per source that meets a spec."""
 
     def body() -> int:
         from camtol import iso286
+        from camtol.cli.pair_tolerancing import pair_allocate, refuse_single_cam_flags
         from camtol.tolerancing import allocate as run
 
         d = load_input(design, example)
+        if criterion == "pair_yield":
+            return pair_allocate(
+                d,
+                interference_max_um=interference_max_um,
+                backlash_max_um=backlash_max_um,
+                target_yield=target_yield,
+                grades=grades,
+                samples=samples,
+                seed=seed,
+                as_json=as_json,
+            )
+        refuse_single_cam_flags(interference_max_um, backlash_max_um, d.mechanism.kind)
         spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         curves = band_option(d, band, spec)
         if spec is None and curves is None:
@@ -455,7 +467,10 @@ def allocate(
                 "yield": {"value": res.verified.value, "ci95": list(res.verified.ci95)},
                 "coarser_fails": res.coarser_fails,
                 "evaluated": res.evaluated,
+                "target_yield": res.target_yield,
+                "met": res.met,
             }
+            _warn_unmet(res)
             echo_json(out, command="allocate")
             return EXIT_OK
         echo = click.echo
@@ -480,8 +495,15 @@ def allocate(
         y = res.verified
         echo(
             f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
-            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]; target {res.target_yield:.4%}:"
+            f" {res.verdict}"
         )
+        if res.verdict == "inconclusive":
+            echo(
+                "  note: the verified yield is below the target but its 95 % interval reaches"
+                " it; more --verify-samples would tell"
+            )
+        _warn_unmet(res)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))

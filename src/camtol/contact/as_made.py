@@ -22,6 +22,7 @@ from camtol.contact.result import FollowerMotion
 from camtol.contact.shapes import AnalyticShape
 from camtol.design.motion import MotionProgram
 from camtol.design.sources import AsMade
+from camtol.exceptions import DesignError
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import Mechanism
 
@@ -54,6 +55,7 @@ def follow_as_made(
     left_limit: ArrayLike | None = None,
     radial_errors: Sequence[ProfileError] = (),
     normal_errors: Sequence[ProfileError] = (),
+    nominal_shape: AnalyticShape | None = None,
 ) -> FollowerMotion:
     """Follow the cam as made with the follower as made (THEORY §5).
 
@@ -71,6 +73,10 @@ def follow_as_made(
         Rows taking left limits at segment boundaries.
     radial_errors, normal_errors : sequence of ProfileError
         Further profile errors of the cam, after the constant ones. [mm]
+    nominal_shape : AnalyticShape, optional
+        The error-free profile of ``nominal`` and ``program``: the cam as made is derived
+        from it (:meth:`AnalyticShape.with_errors`), sharing its nominal geometry, so that
+        many calls (Monte Carlo samples) compute that geometry once. Same result.
 
     Returns
     -------
@@ -85,6 +91,11 @@ def follow_as_made(
         normal.append(FourierError(as_made.normal_error_mm))
     radial += radial_errors
     normal += normal_errors
-    shape = AnalyticShape(nominal, program, _one(radial), _one(normal))
+    if nominal_shape is None:
+        shape = AnalyticShape(nominal, program, _one(radial), _one(normal))
+    else:
+        if nominal_shape.mechanism is not nominal or nominal_shape.program is not program:
+            raise DesignError("nominal_shape must be the error-free profile of nominal, program")
+        shape = nominal_shape.with_errors(radial_error=_one(radial), normal_error=_one(normal))
     theta = np.asarray(theta_rad, dtype=float) - as_made.phase_rad
     return follow(shape, as_made.mechanism, theta, reference=nominal, left_limit=left_limit)

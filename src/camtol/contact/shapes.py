@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -116,9 +117,21 @@ class AnalyticShape:
         Returns
         -------
         AnalyticShape
-            Same mechanism, program and samples with the new errors.
+            Same mechanism, program and samples with the new errors; it shares this
+            shape's nominal geometry at the sampled polygon's parameters (the errors do
+            not change it), so a series of shapes with other errors computes it once.
         """
-        return AnalyticShape(self.mechanism, self.program, radial_error, normal_error, self.samples)
+        new = AnalyticShape(self.mechanism, self.program, radial_error, normal_error, self.samples)
+        new.__dict__["_grid_contact"] = self._grid_contact  # a cached_property's slot
+        return new
+
+    def _contact(self, t: FloatArray, left_limit: ArrayLike | None) -> Any:
+        """Return the nominal follower's contact geometry at parameters t (jets)."""
+        m = self.program.evaluate(t, left_limit=left_limit)
+        theta = Jet.variable(t)
+        lift = Jet(m.lift, m.velocity, m.acceleration)
+        vel = Jet(m.velocity, m.acceleration, m.jerk)
+        return self.mechanism.contact(theta, lift, vel)
 
     def jets(self, t_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> tuple[Jet, Jet]:
         """P(t) with dP/dt and d²P/dt², as jets. [mm, mm/rad, mm/rad²]
@@ -131,11 +144,10 @@ class AnalyticShape:
             Take left limits of the motion program where t lies on a boundary.
         """
         t = np.atleast_1d(np.asarray(t_rad, dtype=float))
-        m = self.program.evaluate(t, left_limit=left_limit)
-        theta = Jet.variable(t)
-        lift = Jet(m.lift, m.velocity, m.acceleration)
-        vel = Jet(m.velocity, m.acceleration, m.jerk)
-        g = self.mechanism.contact(theta, lift, vel)
+        return self._with_profile_errors(t, self._contact(t, left_limit))
+
+    def _with_profile_errors(self, t: FloatArray, g: Any) -> tuple[Jet, Jet]:
+        """P(t) from the nominal contact geometry g at t and the profile errors."""
         ax, ay = _as_jet(g.contact_x, t), _as_jet(g.contact_y, t)
         px, py = ax, ay
         if self.radial_error is not None:
@@ -159,9 +171,19 @@ class AnalyticShape:
         return np.linspace(0.0, TWO_PI, self.samples, endpoint=False)
 
     @cached_property
+    def _grid_contact(self) -> Any:
+        """The nominal geometry at :attr:`sample_param_rad` (shared by :meth:`with_errors`)."""
+        return self._contact(self.sample_param_rad, None)
+
+    @cached_property
+    def _grid_jets(self) -> tuple[Jet, Jet]:
+        """P(t) at :attr:`sample_param_rad` (the polygon's vertices and their parameters)."""
+        return self._with_profile_errors(self.sample_param_rad, self._grid_contact)
+
+    @cached_property
     def polygon(self) -> PolygonShape:
         """The profile sampled at :attr:`sample_param_rad` (vertices on the curve)."""
-        px, py = self.jets(self.sample_param_rad)
+        px, py = self._grid_jets
         pts = np.stack([px.v, py.v], axis=1)
         if not np.all(np.isfinite(pts)):
             i = int(np.argmax(~np.all(np.isfinite(pts), axis=1)))
@@ -190,7 +212,7 @@ class AnalyticShape:
     @cached_property
     def _vertex_param_map(self) -> FloatArray:
         poly = self.polygon
-        px, py = self.jets(self.sample_param_rad)
+        px, py = self._grid_jets
         if poly.size == self.samples and np.allclose(poly.vertices_mm[0], [px.v[0], py.v[0]]):
             return self.sample_param_rad
         # Reversed (clockwise input) or de-duplicated: match coordinates.

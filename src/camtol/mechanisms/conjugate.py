@@ -10,6 +10,12 @@ for cam A and :class:`ConjugateCamB` (the mirrored closed forms) for cam B.
 (:meth:`camtol.design.cam_design.CamDesign.cams`). The pair's own physics (both cams together, the
 measuring fixture) is in :mod:`camtol.pair.kinematics` and :mod:`camtol.pair.contact_fixture`.
 
+Why one module: the pair is one follower type of design files, and its two halves cannot
+be read apart. Cam B (:class:`ConjugateCamB`) exists only as the mirror of cam A on the
+pair's follower (its initial angle is cam A's), and the pair (:class:`ConjugatePair`)
+declares which of its tolerance keys move which cam's source; splitting them would put
+the one mapping between the design file and the two cams in two places.
+
 References
 ----------
 .. [CW11] W.-T. Chang, L.-I. Wu, in *Wide Spectra of Quality Control*, InTech, 2011,

@@ -36,11 +36,21 @@ if TYPE_CHECKING:  # pragma: no cover
     )
 
 __all__ = [
+    "DIFFERENCE_DEFINITION",
     "MonteCarloDisplay",
     "describe_source",
     "display_montecarlo",
+    "source_numbers",
     "yield_spec_text",
 ]
+
+#: What ``linear_vs_exact`` is (its figures are differences, not a distribution).
+DIFFERENCE_DEFINITION = (
+    "linearisation error: exact minus linear on the same samples; mean, std, q00135,"
+    " q99865: the largest |difference| over the angles between the exact and the linear"
+    " per-angle statistic; max_abs_q99865: difference of the 99.865 % quantiles of"
+    " max |dS|; max_sample: the largest |exact - linear| of any sample at any angle"
+)
 
 #: Order of the derivative of ΔS of each statistic.
 _ORDER = {"lift": 0, "velocity": 1, "acceleration": 2}
@@ -83,6 +93,69 @@ def describe_source(model: ResolvedDistribution | ProfileProcess) -> str:
     return f"uniform on {zone}"
 
 
+def source_numbers(model: ResolvedDistribution | ProfileProcess) -> dict[str, Any]:
+    """Return a source's distribution as numbers in display units (``--json`` ``sources``).
+
+    Parameters
+    ----------
+    model : ResolvedDistribution or ProfileProcess
+        A source's distribution (internal units), or the profile process.
+
+    Returns
+    -------
+    dict
+        ``distribution`` (``normal``, ``uniform``, ``triangular``, ``gaussian_process``
+        or ``harmonics``), ``unit`` (``um`` or ``deg``), ``mean``, ``std``, ``lower`` and
+        ``upper`` (the limits of the values; None for an unbounded distribution),
+        ``zone`` ([lower, upper] of the tolerance zone; a process: None), the
+        distribution's own parameters (``cp``, ``truncated``, ``centre`` of a normal,
+        ``mode`` of a triangular, ``target``, ``sigma_um``, ``correlation_deg``,
+        ``harmonics`` of a process) and ``text`` (:func:`describe_source`). [unit]
+    """
+    from camtol.tolerancing.processes import ProfileProcess
+
+    if isinstance(model, ProfileProcess):
+        # At any point Σ A_k cos(kψ + φ_k) has variance Σ A_k²/2 (a_k, b_k: A_k²/2 each).
+        var = float(np.sum(model.coefficient_variance_mm2())) if model.harmonics else None
+        out: dict[str, Any] = {
+            "distribution": "harmonics" if model.harmonics else "gaussian_process",
+            "unit": "um",
+            "mean": 0.0,
+            "std": math.sqrt(var) * 1e3 if var is not None else float(model.sigma_um or 0.0),
+            "lower": None,
+            "upper": None,
+            "zone": None,
+            "target": model.target,
+        }
+        if model.harmonics:
+            total = float(sum(a for _, a in model.harmonics))
+            out["lower"], out["upper"] = -total, total
+            out["harmonics"] = [{"order": k, "amplitude_um": a} for k, a in model.harmonics]
+        else:
+            out["sigma_um"] = model.sigma_um
+            out["correlation_deg"] = model.correlation_deg
+        out["text"] = describe_source(model)
+        return out
+    shown = output_error_unit(model.unit)
+    f = shown.factor
+    zone = [model.lower * f, model.upper * f]
+    out = {
+        "distribution": model.kind,
+        "unit": shown.unit,
+        "mean": model.mean() * f,
+        "std": math.sqrt(max(model.variance(), 0.0)) * f,
+        "lower": zone[0] if model.bounded else None,
+        "upper": zone[1] if model.bounded else None,
+        "zone": zone,
+    }
+    if model.kind == "normal":
+        out.update(cp=model.cp, truncated=model.truncate, centre=model.centre * f)
+    elif model.kind == "triangular":
+        out["mode"] = model.centre * f
+    out["text"] = describe_source(model)
+    return out
+
+
 def yield_spec_text(estimate: YieldEstimate, unit: str, scale: float) -> str:
     """Return what a yield was judged against, in words and display units.
 
@@ -108,6 +181,11 @@ def yield_spec_text(estimate: YieldEstimate, unit: str, scale: float) -> str:
 
 def _scaled_statistics(s: AngleStatistics, unit: str, f: float) -> AngleStatistics:
     m = s.max_abs
+    ci = {
+        k: (None if lo is None else lo * f, None if hi is None else hi * f)
+        for k, (lo, hi) in m.ci95.items()
+    }
+    hist = s.max_abs_histogram
     return dataclasses.replace(
         s,
         unit=unit,
@@ -117,7 +195,9 @@ def _scaled_statistics(s: AngleStatistics, unit: str, f: float) -> AngleStatisti
         q50=s.q50 * f,
         q99865=s.q99865 * f,
         resolution=s.resolution * f,
-        max_abs=type(m)(*(v * f for v in (m.mean, m.std, m.q00135, m.q50, m.q99865))),
+        max_abs=type(m)(m.mean * f, m.std * f, m.q00135 * f, m.q50 * f, m.q99865 * f, ci),
+        tolerance=None if s.tolerance is None else s.tolerance * f,
+        max_abs_histogram=None if hist is None else (hist[0] * f, hist[1]),
     )
 
 
@@ -147,7 +227,9 @@ class MonteCarloDisplay:
     yield_spec : str or None
         What the yield was judged against, in words (:func:`yield_spec_text`).
     notes : tuple of str
-        The study's notes; the linear mode's first one with the quantile resolution.
+        The study's notes; the linear mode's first one with the quantiles' tolerance.
+    source_values : dict of str to dict
+        Each source's distribution as numbers (:func:`source_numbers`).
     """
 
     result: MonteCarloResult
@@ -160,6 +242,34 @@ class MonteCarloDisplay:
     sources: dict[str, str]
     yield_spec: str | None
     notes: tuple[str, ...]
+    source_values: dict[str, dict[str, Any]] = dataclasses.field(default_factory=dict)
+
+    @property
+    def worst_index(self) -> int:
+        """Grid index of the angle of the worst margin (``result.worst_angle_deg``)."""
+        return int(np.argmin(np.abs(self.result.theta_deg - self.result.worst_angle_deg)))
+
+    def methods(self) -> dict[str, Any]:
+        """Which figures are computed from the distributions and which are sampled.
+
+        Returns
+        -------
+        dict
+            ``per_angle`` (mean, σ, quantiles of ΔS at each angle), ``max_abs_dS``,
+            ``yield``, ``outside`` (when present) and ``comparison_mc_9973`` (per
+            source): ``deterministic`` or ``sampled``.
+        """
+        r = self.result
+        out: dict[str, Any] = {
+            "per_angle": self.statistics["lift"].method,
+            "max_abs_dS": "sampled",
+        }
+        if r.yield_estimate is not None:
+            out["yield"] = "sampled"
+        if r.outside is not None:
+            out["outside"] = "deterministic"
+        out["comparison_mc_9973"] = {c.source: c.mc_9973_method for c in r.comparison}
+        return out
 
     def to_dict(self) -> dict[str, Any]:
         """Return the ``camtol montecarlo --json`` object (keys in docs/tolerancing.md).
@@ -177,7 +287,11 @@ class MonteCarloDisplay:
             "seed": r.seed,
             "mode": r.mode,
             "unit": self.unit,
-            "max_abs_dS": lift.max_abs.to_dict(),
+            "max_abs_dS": {
+                **lift.max_abs.to_dict(),
+                "method": "sampled",
+                "ci95": {k: list(v) for k, v in lift.max_abs.ci95.items()},
+            },
         }
         if r.yield_estimate is not None:
             y = r.yield_estimate
@@ -187,7 +301,13 @@ class MonteCarloDisplay:
         ]
         out["worst_angle_deg"] = r.worst_angle_deg
         out["comparison"] = [
-            {"source": c.source, "worst_case": c.worst_case, "rss": c.rss, "mc_9973": c.mc_9973}
+            {
+                "source": c.source,
+                "worst_case": c.worst_case,
+                "rss": c.rss,
+                "mc_9973": c.mc_9973,
+                "mc_9973_method": c.mc_9973_method,
+            }
             for c in self.comparison
         ]
         for q in ("velocity", "acceleration"):
@@ -195,6 +315,15 @@ class MonteCarloDisplay:
                 s = self.statistics[q]
                 out[f"max_abs_d{q[0].upper()}"] = {**s.max_abs.to_dict(), "unit": s.unit}
         out["quantile_resolution"] = lift.resolution
+        out["per_angle"] = self._per_angle()
+        if r.outside is not None:
+            o, i = r.outside, r.outside.worst
+            out["outside"] = {
+                "max": float(o.value[i]),
+                "bounds": [float(o.lower[i]), float(o.upper[i])],
+                "angle_deg": float(r.theta_deg[i]),
+            }
+        out["methods"] = self.methods()
         if self.difference is not None:
             d = self.difference
             out["linear_vs_exact"] = {
@@ -204,11 +333,39 @@ class MonteCarloDisplay:
                 "q99865": d.q99865,
                 "max_abs_q99865": d.max_abs_q99865,
                 "max_sample": d.max_sample,
+                "definition": DIFFERENCE_DEFINITION,
             }
-        out["sources"] = dict(self.sources)
+        out["sources"] = {k: dict(v) for k, v in self.source_values.items()}
+        out["warnings"] = list(r.warnings)
         out["notes"] = list(self.notes)
         clean: dict[str, Any] = _finite(out)
         return clean
+
+    def _per_angle(self) -> dict[str, Any]:
+        """Return the ``per_angle`` object: how the per-angle figures were obtained.
+
+        With the figures at the angle of the worst margin.
+        """
+        s = self.statistics["lift"]
+        i = self.worst_index
+        deterministic = s.method == "deterministic"
+        at = {
+            "angle_deg": float(self.result.theta_deg[i]),
+            **{k: float(getattr(s, k)[i]) for k in ("mean", "std", "q00135", "q50", "q99865")},
+        }
+        return {
+            "method": s.method,
+            "tolerance": float(s.resolution) if deterministic else None,
+            "lattice_points": self.lattice_points if deterministic else None,
+            "at_worst_angle": at,
+        }
+
+    @property
+    def lattice_points(self) -> int:
+        """Lattice points per angle of the deterministic distributions."""
+        from camtol.tolerancing.convolution import POINTS
+
+        return POINTS
 
 
 def display_montecarlo(result: MonteCarloResult, design: CamDesign) -> MonteCarloDisplay:
@@ -250,7 +407,7 @@ def display_montecarlo(result: MonteCarloResult, design: CamDesign) -> MonteCarl
     notes = result.notes
     if result.mode == "linear" and notes:
         lift = stats["lift"]
-        first = f"{notes[0]} (resolution {lift.resolution:.3g} {lift.unit})"
+        first = f"{notes[0]} (quantiles within ±{lift.resolution:.3g} {lift.unit}, a bound)"
         notes = (first, *notes[1:])
     y = result.yield_estimate
     return MonteCarloDisplay(
@@ -264,6 +421,7 @@ def display_montecarlo(result: MonteCarloResult, design: CamDesign) -> MonteCarl
         sources={k: describe_source(v) for k, v in result.sources.items()},
         yield_spec=None if y is None else yield_spec_text(y, unit, f),
         notes=notes,
+        source_values={k: source_numbers(v) for k, v in result.sources.items()},
     )
 
 

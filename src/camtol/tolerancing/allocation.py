@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Literal, NoReturn
 
@@ -48,6 +49,8 @@ __all__ = ["Allocation", "Criterion", "allocate"]
 
 Criterion = Literal["worst_case", "rss", "monte_carlo"]
 DEFAULT_GRADES = tuple(f"IT{k}" for k in range(5, 13))
+#: Largest sample matrix the Monte Carlo criterion holds in memory. [bytes]
+MAX_HELD_BYTES = 512 * 2**20
 
 
 @dataclass(frozen=True)
@@ -88,6 +91,12 @@ class Allocation:
     band : str or None
         The band, when one was given instead of a spec: its file name, or
         ``curves given in Python``.
+    target_yield : float
+        The yield the verification is judged against (the ``monte_carlo`` criterion's
+        target; the same figure for the others). [-]
+    met : bool
+        False when the verified yield's 95 % interval lies wholly below
+        ``target_yield`` (the allocation demonstrably misses it); True otherwise.
     """
 
     grades: dict[str, str]
@@ -102,6 +111,19 @@ class Allocation:
     coarser_fails: dict[str, bool | None]
     evaluated: int
     band: str | None = None
+    target_yield: float = 0.9973
+    met: bool = True
+
+    @property
+    def verdict(self) -> str:
+        """``met``, ``not met`` (interval below the target) or ``inconclusive``.
+
+        Inconclusive: the verified yield is below the target but its 95 % interval
+        reaches it (more ``verify_samples`` would tell).
+        """
+        if not self.met:
+            return "not met"
+        return "met" if self.verified.value >= self.target_yield else "inconclusive"
 
 
 def _with_grades(design: CamDesign, keys: list[str], grades: tuple[str, ...]) -> CamDesign:
@@ -192,13 +214,17 @@ def allocate(
     grades : tuple of str
         Candidate grades, e.g. IT5..IT12.
     target_yield : float
-        Yield required by the Monte Carlo criterion (0-1). [-]
+        Yield required by the Monte Carlo criterion (0-1), and the yield the
+        verification of any criterion is judged against (``Allocation.met``). [-]
     cost_exponent : float
         b of the reciprocal-power cost (> 0). [-]
     cost_coefficients : dict of str to float, optional
         a_k per source (default 1 each). [-]
     samples, verify_samples : int
-        Monte Carlo samples per candidate and for the final verification.
+        Monte Carlo samples per candidate and for the final verification, each at most
+        :data:`~camtol.tolerancing.montecarlo.MAX_LINEAR_SAMPLES` (as ``monte_carlo``);
+        beyond :data:`MAX_HELD_BYTES` the candidates' samples are drawn again chunk by
+        chunk instead of being held (same numbers, bounded memory).
     seed : int
         Seed of both Monte Carlo runs.
     model : StatisticalModel, optional
@@ -270,6 +296,7 @@ def _allocate(
     step_deg: float,
 ) -> Allocation:
     from camtol.tolerancing.montecarlo import monte_carlo
+    from camtol.tolerancing.plan import CHUNK, chunk_uniforms
     from camtol.tolerancing.study import prepare, sample_matrix
 
     if criterion not in ("worst_case", "rss", "monte_carlo"):
@@ -284,10 +311,18 @@ def _allocate(
         raise DesignError(f"spec={spec!r} is not allowed; it must be > 0")
     if not 0 < target_yield < 1:
         raise DesignError(f"target_yield={target_yield!r} must lie in (0, 1)")
+    for name, value in (("samples", samples), ("verify_samples", verify_samples)):
+        _check_samples(name, value)
     if not (math.isfinite(cost_exponent) and cost_exponent > 0):
         raise DesignError(f"cost_exponent={cost_exponent!r} must be > 0")
     grades = tuple(iso286.parse_grade(g) for g in grades)
     grades = tuple(sorted(set(grades), key=iso286.GRADES.index))
+    # The output error of a design is its first cam's (a pair's cam A, as analyze and
+    # prepare): its own sources are allocated, under its own keys.
+    from camtol.analysis.validity import check_design_geometry
+
+    check_design_geometry(design)  # every cam, as analyze: a pair whose cam B jams fails
+    design = design.cams()[0].design
     keys = [t.key for t in design.tolerances]
     if not keys:
         raise DesignError(f"design {design.name!r} has no [tolerances]: nothing to allocate")
@@ -361,7 +396,20 @@ def _allocate(
     wc = figure(t_comb) if criterion != "monte_carlo" else None
     if criterion == "monte_carlo":
         u_plan = base.plan
-        x_unit = sample_matrix(u_plan, seed, samples)  # samples at the finest grades
+        # Samples at the finest grades: held when they fit in MAX_HELD_BYTES, else drawn
+        # again chunk by chunk for each candidate (the same numbers: 512-sample blocks
+        # never straddle a 4096-sample chunk).
+        held = samples * max(u_plan.columns, 1) * 8 <= MAX_HELD_BYTES
+        x_unit = sample_matrix(u_plan, seed, samples) if held else None
+
+        def sample_blocks() -> Iterator[FloatArray]:
+            if x_unit is not None:
+                yield x_unit
+                return
+            for c in range(-(-samples // CHUNK)):
+                size = min(CHUNK, samples - c * CHUNK)
+                yield u_plan.sample(chunk_uniforms(seed, c, size, u_plan.uniforms))
+
         g_full = np.hstack([g, g_all[:, nk:]])
         if curves is None:
             verts = g_full[_hull_angles(g_full)]
@@ -395,18 +443,20 @@ def _allocate(
 
         def yield_of(t: FloatArray, *, early: bool = True) -> float:
             """Yield with common random numbers; stops once the target is out of reach."""
-            f = np.ones(x_unit.shape[1])
+            f = np.ones(u_plan.columns)
             f[:nk] = t / dev[:, 0]
             if early:
-                lower_failures = failing(x_unit @ (screen.T * f[:, None]), s_lo, s_hi)
+                st = screen.T * f[:, None]
+                lower_failures = sum(failing(xb @ st, s_lo, s_hi) for xb in sample_blocks())
                 if lower_failures > allowed:
                     return 1.0 - lower_failures / samples  # an upper bound, below target
             vt = verts.T * f[:, None]
             failures = 0
-            for s0 in range(0, samples, 512):
-                failures += failing(x_unit[s0 : s0 + 512] @ vt, v_lo, v_hi)
-                if early and failures > allowed:
-                    return 1.0 - failures / samples  # an upper bound, below the target
+            for xb in sample_blocks():
+                for s0 in range(0, xb.shape[0], 512):
+                    failures += failing(xb[s0 : s0 + 512] @ vt, v_lo, v_hi)
+                    if early and failures > allowed:
+                        return 1.0 - failures / samples  # an upper bound, below the target
             return 1.0 - failures / samples
 
         order = np.argsort(cost, kind="stable")
@@ -488,6 +538,7 @@ def _allocate(
         step_deg=step_deg,
     )
     assert check.yield_estimate is not None
+    verified = check.yield_estimate
     return Allocation(
         grades=dict(zip(keys, chosen, strict=True)),
         deviations=tuple(tols),
@@ -497,11 +548,26 @@ def _allocate(
         achieved=achieved,
         cost=float(cost[choice]),
         accuracy=accuracy,
-        verified=check.yield_estimate,
+        verified=verified,
         coarser_fails=fails,
         evaluated=evaluated,
         band=None if band is None else band_label(band),
+        target_yield=target_yield,
+        met=verified.ci95[1] >= target_yield,
     )
+
+
+def _check_samples(name: str, value: int) -> None:
+    """Refuse a number of samples monte_carlo would refuse (the same upper bound)."""
+    from camtol.tolerancing.montecarlo import MAX_LINEAR_SAMPLES
+
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value <= 0:
+        raise DesignError(f"{name}={value!r} is not allowed; give a whole number ≥ 1")
+    if value > MAX_LINEAR_SAMPLES:
+        raise DesignError(
+            f"{name}={value} is not allowed; at most {MAX_LINEAR_SAMPLES:.0e} samples, as"
+            " for camtol montecarlo"
+        )
 
 
 def _require_scalable(model: StatisticalModel, keys: list[str], criterion: str) -> None:

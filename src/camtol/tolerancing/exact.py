@@ -24,6 +24,7 @@ import numpy as np
 
 from camtol.contact.as_made import follow_as_made
 from camtol.contact.errors_profile import ProfileError
+from camtol.contact.shapes import AnalyticShape
 from camtol.design.sources import AsMade, apply_source, can_apply
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
@@ -36,6 +37,8 @@ from camtol.tolerancing.results import (
     MonteCarloResult,
     Summary,
     YieldEstimate,
+    few_samples_warning,
+    sampled_intervals,
     spec_limits,
 )
 
@@ -99,7 +102,13 @@ def _stats(y: FloatArray) -> tuple[FloatArray, FloatArray, list[FloatArray]]:
 def _summary(v: FloatArray) -> Summary:
     q = [float(np.quantile(v, p)) for p in PROBS]
     sd = float(v.std(ddof=1)) if v.size > 1 else 0.0
-    return Summary(float(v.mean()), sd, q[0], q[1], q[2])
+    ordered = np.sort(v)
+
+    def order_statistic(frac: float) -> float:
+        return float(ordered[min(max(round(frac * v.size), 1), v.size) - 1])
+
+    ci = sampled_intervals(v.size, float(v.mean()), sd, order_statistic)
+    return Summary(float(v.mean()), sd, q[0], q[1], q[2], ci)
 
 
 def regression_shares(
@@ -173,6 +182,9 @@ def run_exact(
     x = sample_matrix(study.plan, seed, samples)
     nominal = design.program.evaluate(theta, left_limit=left).lift
     exact = np.empty((samples, theta.size))
+    # Every sample's profile is this one with its errors: its nominal geometry on the
+    # seeding polygon is computed once, not per sample.
+    shape = AnalyticShape(design.mechanism, design.program)
     for i in range(samples):
         as_made, process = _sample_as_made(study, x[i])
         res = follow_as_made(
@@ -183,6 +195,7 @@ def run_exact(
             left_limit=left,
             radial_errors=process["radial"],
             normal_errors=process["normal"],
+            nominal_shape=shape,
         )
         exact[i] = res.lift - nominal
         if progress is not None:
@@ -192,6 +205,7 @@ def run_exact(
     lm, ls, lq = _stats(linear)
     e_max = np.max(np.abs(exact), axis=1)
     l_max = np.max(np.abs(linear), axis=1)
+    counts, edges = np.histogram(e_max, bins=64, range=(0.0, float(e_max.max()) or 1.0))
     stats = {
         "lift": AngleStatistics(
             "lift",
@@ -203,6 +217,8 @@ def run_exact(
             eq[2],
             0.0,
             _summary(e_max),
+            method="sampled",
+            max_abs_histogram=(edges, counts.astype(np.int64)),
         )
     }
     diff = LinearExactDifference(
@@ -254,6 +270,7 @@ def run_exact(
         sources=source_models(study),
         difference=diff,
         limits=spec_limits(theta.size, spec, band),
+        warnings=few_samples_warning(samples, "dS at each angle and of max |dS|"),
         notes=(
             "exact mode: every sample through the contact engine (THEORY §5); quantiles are"
             " exact order statistics; per-source Monte Carlo columns use the linear model",

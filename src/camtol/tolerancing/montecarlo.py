@@ -1,8 +1,11 @@
 """Monte Carlo tolerance analysis of a cam design: linear and exact modes.
 
-Linear mode samples every error source from its distribution (:mod:`.distributions`,
-:mod:`.processes`) and forms ΔS(θ) = Σ_j g_j(θ) x_j from the closed-form sensitivities of
-THEORY §3 ([CW06] §3, [WC05]) in chunks (:mod:`.linear`). Exact mode runs the same samples
+Linear mode: ΔS(θ) = Σ_j g_j(θ) x_j from the closed-form sensitivities of THEORY §3
+([CW06] §3, [WC05]). Its per-angle mean, σ, quantiles and probability of leaving the
+limits are computed from the source distributions without sampling
+(:mod:`.convolution`, issue 28); every error source is sampled from its distribution
+(:mod:`.distributions`, :mod:`.processes`) in chunks (:mod:`.linear`) for what couples
+the angles: max_θ |ΔS| per sample and the yield. Exact mode runs the same samples
 through the contact engine (THEORY §5): each sample's follower perturbed
 (``Mechanism.perturbed``), its profile carrying its radial/normal errors; it reports the
 exact statistics and their difference from the linear ones on the same samples.
@@ -15,6 +18,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -37,8 +41,11 @@ from camtol.tolerancing.results import (
     AngleStatistics,
     Contribution,
     MonteCarloResult,
+    OutsideProbability,
     Summary,
     YieldEstimate,
+    few_samples_warning,
+    sampled_intervals,
     spec_limits,
 )
 from camtol.tolerancing.study import (
@@ -78,11 +85,16 @@ def _check_samples(samples: int, mode: Mode, angles: int) -> None:
         )
 
 
-def _ranges(study: Study) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, float]]:
+def _max_tops(study: Study) -> dict[str, float]:
+    """Upper end of each quantity's max |ΔS| histogram: bounds every sample. [unit]
+
+    The worst case of the bounded columns plus ±8σ of the unbounded ones, at the angle
+    where it is largest (padded so that no sample falls on the end).
+    """
     lo_c, hi_c, bounded = study.plan.column_bounds()
     var = study.plan.column_variance()
     mean = study.plan.column_mean()
-    lower, width, top = {}, {}, {}
+    top = {}
     for q, g in study.sens.items():
         gb = g[:, bounded]
         lo = np.minimum(gb * lo_c[bounded], gb * hi_c[bounded]).sum(axis=1)
@@ -92,26 +104,26 @@ def _ranges(study: Study) -> tuple[dict[str, FloatArray], dict[str, FloatArray],
         spread = 8.0 * np.sqrt((gu * gu) @ var[~bounded])
         lo = lo + centre - spread
         hi = hi + centre + spread
-        # Where ΔS cannot vary (e.g. ΔV in a dwell) the range is widened to a floor so
-        # that 1/width stays finite in float32.
         span = hi - lo
         floor = max(1e-9 * float(np.max(span)), 1e-30)
         grow = np.maximum(span, floor) - span
         lo, hi = lo - 0.5 * grow, hi + 0.5 * grow
         pad = 1e-9 * (hi - lo)
-        lower[q] = lo - pad
-        width[q] = (hi - lo + 2 * pad) / lin.ANGLE_BINS
-        top[q] = float(max(np.max(np.abs(lower[q])), np.max(np.abs(hi + pad))))
-    return lower, width, top
+        top[q] = float(max(np.max(np.abs(lo - pad)), np.max(np.abs(hi + pad))))
+    return top
 
 
-def _label_tops(study: Study) -> FloatArray:
+def _sampled_labels(study: Study) -> tuple[int, ...]:
+    """Labels whose max |ΔS| alone must be sampled: those of several columns (a process)."""
+    return tuple(j for j, (a, b) in enumerate(study.plan.groups) if b - a > 1)
+
+
+def _label_tops(study: Study, labels: tuple[int, ...]) -> FloatArray:
     lo_c, hi_c, _ = study.plan.column_bounds()
     g = study.sens["lift"]
     b = np.maximum(np.abs(lo_c), np.abs(hi_c))
-    return np.array(
-        [float(np.max(np.abs(g[:, a:z]) @ b[a:z])) * 1.000001 for a, z in study.plan.groups]
-    )
+    groups = [study.plan.groups[j] for j in labels]
+    return np.array([float(np.max(np.abs(g[:, a:z]) @ b[a:z])) * 1.000001 for a, z in groups])
 
 
 @contextmanager
@@ -217,6 +229,9 @@ def monte_carlo(
     Returns
     -------
     MonteCarloResult
+        Linear mode: deterministic per-angle statistics (``AngleStatistics.method``) with
+        the bound on their numerical error, sampled max |ΔS| and yield with 95 %
+        intervals; exact mode: everything sampled.
 
     Raises
     ------
@@ -251,18 +266,18 @@ def monte_carlo(
         return run_exact(
             study, int(samples), int(seed), spec, progress, band=curves, band_text=band_text
         )
-    lower, width, top = _ranges(study)
+    top = _max_tops(study)
+    sampled = _sampled_labels(study)
     lspec = lin.LinearSpec(
         seed=int(seed),
         samples=int(samples),
         plan=study.plan,
         sens={q: study.sens[q] for q in qs},
-        lower={q: lower[q] for q in qs},
-        width={q: width[q] for q in qs},
         max_top={q: top[q] for q in qs},
-        label_top=_label_tops(study),
+        label_top=_label_tops(study, sampled),
         spec=spec,
         band=curves,
+        sampled_labels=sampled,
     )
     totals = _execute(
         lspec,
@@ -275,8 +290,43 @@ def monte_carlo(
 
 
 def _summary_from_hist(counts: lin.IntArray, top: float, mean: float, std: float) -> Summary:
-    q = lin.hist_quantiles(counts[None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), PROBS)
-    return Summary(mean, std, float(q[0][0]), float(q[1][0]), float(q[2][0]))
+    """Mean, σ, quantiles and their 95 % intervals of max |ΔS| from its histogram."""
+    n = int(counts.sum())
+    width = np.array([top / lin.MAX_BINS])
+
+    def at(p: float) -> float:
+        return float(lin.hist_quantiles(counts[None, :], np.zeros(1), width, (p,))[0][0])
+
+    q = [at(p) for p in PROBS]
+    return Summary(mean, std, q[0], q[1], q[2], sampled_intervals(n, mean, std, at))
+
+
+def _label_figures(
+    study: Study, spec: lin.LinearSpec, totals: lin.LinearTotals
+) -> tuple[list[float], list[str]]:
+    """99.73 % of max_θ |ΔS_p| per label, and whether it is deterministic or sampled.
+
+    A constant source's max_θ |ΔS_p| is |x_p| max_θ |s_p|: its quantile is a closed form
+    of the source's distribution; a process's is read from the samples.
+    """
+    from camtol.tolerancing.convolution import abs_quantile
+
+    label_q: list[float] = []
+    methods: list[str] = []
+    g_lift = study.sens["lift"]
+    for j, (a, _) in enumerate(study.plan.groups):
+        if j in spec.sampled_labels:
+            row = spec.sampled_labels.index(j)
+            width = np.array([float(spec.label_top[row]) / lin.MAX_BINS])
+            counts = totals.label_hist[row][None, :]
+            qq = lin.hist_quantiles(counts, np.zeros(1), width, (0.9973,))
+            label_q.append(float(qq[0][0]))
+            methods.append("sampled")
+        else:
+            peak = float(np.max(np.abs(g_lift[:, a])))
+            label_q.append(peak * abs_quantile(study.plan.distributions[j], 0.9973))
+            methods.append("deterministic")
+    return label_q, methods
 
 
 def _linear_result(
@@ -286,27 +336,35 @@ def _linear_result(
     band: tuple[FloatArray, FloatArray] | None,
     band_text: str = "",
 ) -> MonteCarloResult:
-    n_tot, xmean, cov, max_stats = lin.fold_moments(totals, list(spec.sens))
+    from camtol.tolerancing.convolution import POINTS, angle_distributions
+
+    n_tot, max_stats = lin.fold_max_moments(totals, list(spec.sens))
+    limits = spec_limits(study.theta_rad.size, spec.spec, band)
     stats: dict[str, AngleStatistics] = {}
+    outside = None
     for q, g in spec.sens.items():
         unit = study.unit + ("", "/rad", "/rad2")[("lift", "velocity", "acceleration").index(q)]
-        n = g.shape[0]
-        counts = totals.hist[q].reshape(n, lin.ANGLE_BINS)
-        qs = lin.hist_quantiles(counts, spec.lower[q], spec.width[q], PROBS)
-        mean = g @ xmean
-        std = np.sqrt(np.maximum(((g @ cov) * g).sum(axis=1), 0.0))
+        dist = angle_distributions(
+            g, study.plan, probs=PROBS, limits=limits if q == "lift" else None
+        )
+        if dist.p_out is not None and dist.p_out_bounds is not None:
+            outside = OutsideProbability(dist.p_out, *dist.p_out_bounds)
         mu, sd = max_stats[q]
         ma = _summary_from_hist(totals.max_hist[q], spec.max_top[q], mu, sd)
+        edges = np.linspace(0.0, spec.max_top[q], lin.MAX_BINS + 1)
         stats[q] = AngleStatistics(
             q,
             unit,
-            mean,
-            std,
-            qs[0],
-            qs[1],
-            qs[2],
-            float(np.max(spec.width[q])),
+            dist.mean,
+            dist.std,
+            dist.quantiles[0],
+            dist.quantiles[1],
+            dist.quantiles[2],
+            float(np.max(dist.tolerance)),
             ma,
+            method="deterministic",
+            tolerance=dist.tolerance,
+            max_abs_histogram=(edges, totals.max_hist[q].copy()),
         )
     lift = stats["lift"]
     y = None
@@ -322,14 +380,14 @@ def _linear_result(
             key=lambda c: -c.variance_share,
         )
     )
-    label_q = []
-    for j in range(len(study.plan.labels)):
-        top = float(spec.label_top[j])
-        qq = lin.hist_quantiles(
-            totals.label_hist[j][None, :], np.zeros(1), np.array([top / lin.MAX_BINS]), (0.9973,)
-        )
-        label_q.append(float(qq[0][0]))
+    label_q, methods = _label_figures(study, spec, totals)
+    methods.append("deterministic")  # combined: the largest half-width of the band
     combined = float(np.max(np.maximum(np.abs(lift.q00135), np.abs(lift.q99865))))
+    rows = tuple(
+        dataclasses.replace(r, mc_9973_method=m)
+        for r, m in zip(comparison_rows(study, label_q, combined), methods, strict=True)
+    )
+    what = "max |dS|" + (" (and the process's MC 99.73 %)" if spec.sampled_labels else "")
     return MonteCarloResult(
         design_name=study.design.name,
         samples=n_tot,
@@ -341,12 +399,16 @@ def _linear_result(
         shares=shares,
         worst_angle_deg=float(np.degrees(study.theta_rad[i])),
         contributions=contributions,
-        comparison=comparison_rows(study, label_q, combined),
+        comparison=rows,
         sources=source_models(study),
-        limits=spec_limits(study.theta_rad.size, spec.spec, band),
+        limits=limits,
+        outside=outside,
+        warnings=few_samples_warning(n_tot, what),
         notes=(
-            "linear mode: closed-form sensitivities (THEORY §3); mean and σ exact for the"
-            " samples, quantiles from per-angle histograms",
+            "linear mode: closed-form sensitivities (THEORY §3); per-angle mean, σ,"
+            " quantiles and probabilities computed from the source distributions without"
+            f" sampling (convolution on {POINTS} lattice points per angle); max |ΔS| and the"
+            " yield sampled",
             "zone convention: each source varies in ±Δ of its resolved tolerance (full IT"
             " value), normal σ = Δ/(3 Cp) truncated at the zone",
         ),

@@ -340,8 +340,9 @@ def pair_monte_carlo(
         ok = (interference <= interference_max_mm) & (backlash <= backlash_max_mm)
         pair_yield = YieldEstimate.of(int(ok.sum()), n)
     notes = [
-        "deterministic (from the sources' moments, no sampling noise): per-angle mean and σ"
-        " of ΔS_A, ΔS_B and Δf, and Δf's variance shares",
+        "deterministic (no sampling noise): per-angle mean, σ and quantiles of ΔS_A,"
+        " ΔS_B and Δf (quantiles by convolution of the source densities, within a stated"
+        " tolerance), and Δf's variance shares",
         f"sampled ({n} pairs): max |ΔS| per cam, interference, backlash, fixture and pair"
         " yields (yields with Clopper-Pearson 95 % intervals)",
         "linear model (THEORY §3, §4.1): each source varies in ±Δ of its resolved tolerance"

@@ -9,9 +9,12 @@ layer's business (:mod:`camtol.report.tolerancing_display`).
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 
 from camtol.jet import FloatArray
 from camtol.tolerancing.distributions import ResolvedDistribution
@@ -23,20 +26,136 @@ __all__ = [
     "Contribution",
     "LinearExactDifference",
     "MonteCarloResult",
+    "OutsideProbability",
     "Summary",
     "YieldEstimate",
+    "FEW_SAMPLES",
+    "few_samples_warning",
+    "quantile_ci_ranks",
+    "sampled_intervals",
 ]
+
+#: Below this many samples, sampled quantiles carry a warning. [-]
+FEW_SAMPLES = 1000
+
+Interval = tuple[float | None, float | None]
+#: Probabilities of the quantiles of a :class:`Summary`. [-]
+SUMMARY_PROBS = (0.00135, 0.5, 0.99865)
+
+
+def quantile_ci_ranks(samples: int, prob: float) -> tuple[int, int]:
+    """Ranks (1-based) of the order statistics bounding a quantile with ≥ 95 % confidence.
+
+    With B ~ Binomial(n, p) the number of samples below the true p-quantile,
+    P(X_(l) ≤ q_p ≤ X_(u)) ≥ P(l ≤ B < u); l is the largest rank with P(B < l) ≤ 0.025
+    and u the smallest with P(B < u) ≥ 0.975 (distribution-free, exact binomial).
+
+    Parameters
+    ----------
+    samples : int
+        Number of samples n.
+    prob : float
+        Probability p of the quantile, in (0, 1). [-]
+
+    Returns
+    -------
+    (int, int)
+        (l, u); l = 0 means no lower bound, u = n + 1 no upper bound at 95 %.
+    """
+    from scipy.special import bdtr  # binomial CDF, without scipy.stats
+
+    def below(k: int) -> float:  # P(B < k) = P(B ≤ k − 1)
+        return 0.0 if k <= 0 else 1.0 if k > samples else float(bdtr(k - 1, samples, prob))
+
+    lo, hi = 0, samples + 1  # largest l with below(l) ≤ 0.025: below(lo) ≤ .025 < below(hi)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if below(mid) <= 0.025 else (lo, mid)
+    first = lo
+    lo, hi = 0, samples + 1  # smallest u with below(u) ≥ 0.975: below(lo) < .975 ≤ below(hi)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if below(mid) >= 0.975 else (mid, hi)
+    return first, hi
+
+
+def sampled_intervals(
+    n: int, mean: float, std: float, order_statistic: Callable[[float], float]
+) -> dict[str, tuple[float | None, float | None]]:
+    """95 % intervals of a sampled mean and of the 0.135, 50, 99.865 % quantiles.
+
+    Parameters
+    ----------
+    n : int
+        Number of samples.
+    mean, std : float
+        Sample mean and σ. [unit]
+    order_statistic : callable
+        Value at the fraction k/n of the sorted samples (the k-th order statistic). [unit]
+
+    Returns
+    -------
+    dict
+        ``mean`` (±1.96 σ/√n) and ``q00135``, ``q50``, ``q99865`` (order statistics,
+        :func:`~camtol.tolerancing.results.quantile_ci_ranks`); None where the samples
+        are too few to bound it. [unit]
+    """
+    half = 1.96 * std / math.sqrt(n) if n > 1 else math.inf
+    out: dict[str, tuple[float | None, float | None]] = {
+        "mean": (mean - half, mean + half) if math.isfinite(half) else (None, None)
+    }
+    for key, p in zip(("q00135", "q50", "q99865"), SUMMARY_PROBS, strict=True):
+        lo, hi = quantile_ci_ranks(n, p)
+        out[key] = (
+            order_statistic(lo / n) if lo >= 1 else None,
+            order_statistic(hi / n) if hi <= n else None,
+        )
+    return out
+
+
+def few_samples_warning(samples: int, what: str) -> tuple[str, ...]:
+    """Return the one-line warning on quantiles from fewer than FEW_SAMPLES samples.
+
+    Parameters
+    ----------
+    samples : int
+        Number of samples.
+    what : str
+        Which quantiles are sampled, e.g. ``max |dS|``.
+
+    Returns
+    -------
+    tuple of str
+        One warning, or none from FEW_SAMPLES samples on.
+    """
+    if samples >= FEW_SAMPLES:
+        return ()
+    return (
+        f"the quantiles of {what} come from {samples} sample{'s' if samples != 1 else ''}"
+        f" (fewer than {FEW_SAMPLES:,}): they are rough; see their 95 % intervals",
+    )
 
 
 @dataclass(frozen=True)
 class Summary:
-    """Mean, σ and the 0.135 / 50 / 99.865 % quantiles of a scalar over the samples."""
+    """Mean, σ and the 0.135 / 50 / 99.865 % quantiles of a scalar over the samples.
+
+    Attributes
+    ----------
+    mean, std, q00135, q50, q99865 : float
+        The sample figures. [unit of the scalar]
+    ci95 : dict of str to (float or None, float or None)
+        95 % confidence interval of ``mean`` (normal approximation) and of each quantile
+        (order statistics, :func:`quantile_ci_ranks`; None where the samples are too
+        few to bound it). [unit]
+    """
 
     mean: float
     std: float
     q00135: float
     q50: float
     q99865: float
+    ci95: dict[str, Interval] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, float]:
         """JSON object with keys ``mean, std, q00135, q50, q99865``."""
@@ -66,9 +185,18 @@ class AngleStatistics:
     mean, std, q00135, q50, q99865 : ndarray
         Per-angle mean, σ and quantiles. [unit]
     resolution : float
-        Largest histogram bin width of the quantiles (0: exact order statistics). [unit]
+        Deterministic figures (linear mode): the largest bound over θ on the numerical
+        error of the quantiles (:mod:`camtol.tolerancing.convolution`); sampled ones:
+        0 (exact order statistics). [unit]
     max_abs : Summary
         Distribution of max_θ |ΔS| (or |ΔV|, |ΔA|) over the samples. [unit]
+    method : str
+        ``deterministic``: mean, σ, quantiles computed from the source distributions
+        without sampling (linear mode); ``sampled``: statistics of the samples.
+    tolerance : ndarray or None
+        Deterministic: the bound on the error of the quantiles at each angle. [unit]
+    max_abs_histogram : (ndarray, ndarray) or None
+        Bin edges [unit] and counts of max_θ |ΔS| over the samples.
     """
 
     quantity: str
@@ -80,6 +208,9 @@ class AngleStatistics:
     q99865: FloatArray
     resolution: float
     max_abs: Summary
+    method: str = "sampled"
+    tolerance: FloatArray | None = None
+    max_abs_histogram: tuple[FloatArray, NDArray[np.int64]] | None = None
 
 
 @dataclass(frozen=True)
@@ -138,6 +269,28 @@ class YieldEstimate:
 
 
 @dataclass(frozen=True)
+class OutsideProbability:
+    """Probability that ΔS(θ) lies outside the limits at each angle (deterministic).
+
+    Attributes
+    ----------
+    value : ndarray
+        P(ΔS(θ) < lower(θ) or ΔS(θ) > upper(θ)) at every angle. [-]
+    lower, upper : ndarray
+        Guaranteed bounds on ``value`` given the numerical tolerance. [-]
+    """
+
+    value: FloatArray
+    lower: FloatArray
+    upper: FloatArray
+
+    @property
+    def worst(self) -> int:
+        """Index of the angle of the largest probability."""
+        return int(np.argmax(self.value))
+
+
+@dataclass(frozen=True)
 class Contribution:
     """Variance share (0-1) of one source at the angle of the worst spec margin."""
 
@@ -156,12 +309,17 @@ class ComparisonRow:
     worst_case, rss, mc_9973 : float
         max_θ of the worst case and of the RSS, and the 99.73 % quantile of the Monte
         Carlo max |ΔS|. [unit of ΔS: mm or rad]
+    mc_9973_method : str
+        ``deterministic`` (from the source distributions, linear mode: a constant source,
+        whose max |ΔS_p| is |x_p| max_θ |s_p|, and ``combined``, the largest half-width of
+        the per-angle band) or ``sampled`` (a profile process, exact mode).
     """
 
     source: str
     worst_case: float
     rss: float
     mc_9973: float
+    mc_9973_method: str = "sampled"
 
 
 @dataclass(frozen=True)
@@ -252,6 +410,12 @@ class MonteCarloResult:
     limits : (ndarray, ndarray) or None
         What the yield was judged against, as lower and upper curves on ``theta_deg``
         (−spec and +spec, or the band); None without a spec. [mm or rad]
+    outside : OutsideProbability or None
+        Linear mode with a spec or band: the deterministic probability of leaving the
+        limits at each angle (1 − its maximum bounds the yield from above).
+    warnings : tuple of str
+        What the reader must know before using the figures (e.g. quantiles from fewer
+        than :data:`FEW_SAMPLES` samples).
     """
 
     design_name: str
@@ -269,6 +433,8 @@ class MonteCarloResult:
     difference: LinearExactDifference | None = None
     notes: tuple[str, ...] = ()
     limits: tuple[FloatArray, FloatArray] | None = None
+    outside: OutsideProbability | None = None
+    warnings: tuple[str, ...] = ()
 
     @property
     def unit(self) -> str:
