@@ -16,6 +16,7 @@ from camtol.config.design_file import load_example
 from camtol.config.examples import example_text
 from camtol.records.lots import lot_statistics
 from camtol.records.store import design_identity, open_store
+from camtol.report.units import json_ready
 
 EX = "cw11-conjugate"
 
@@ -73,16 +74,22 @@ def test_show_and_stats_against_the_library(
     with open_store(url) as s:
         rec = s.get(3)
         lot = s.records(design=EX, lot="L1", cam="A", with_curves=True)
+        inputs = s.input_list(3)
+    assert [i["role"] for i in inputs] == ["df_mea"] and inputs[0]["name"] == ""
     # floats are printed to 10 significant digits (issue 13 item 6)
     expected = rec.summary()
     # the JSON envelope leads; the record's own camtol version sits beside the envelope's
     expected["record_camtol_version"] = rec.camtol_version
+    # what makes it re-runnable: the options, the method's results and the raw inputs
+    expected.update(options=rec.options, results=rec.results, inputs=inputs)
     assert list(shown)[:3] == ["schema_version", "command", "camtol_version"]
     assert shown["command"] == "records show"
     assert set(shown) == set(expected) | {"schema_version", "command"}
     for key, value in expected.items():
         if isinstance(value, float):
             assert shown[key] == pytest.approx(value, rel=1e-9), key
+        elif isinstance(value, dict):  # nested floats to 10 digits too
+            assert shown[key] == json.loads(json.dumps(json_ready(value))), key
         else:
             assert shown[key] == value, key
     rows = list(csv.reader(curve.read_text().splitlines()))
@@ -197,8 +204,18 @@ def test_every_key_column_and_flag_is_documented(
     assert main(["records", "stats", "--store", url, "--design", EX, "--cam", "B", "--json"]) == 0
     keys |= set(json.loads(capsys.readouterr().out))
     keys |= {"theta_deg", "dr_um", "mean_um", "std_um", "max_um", "min_um"}  # CSV columns
+    assert main(["records", "rerun", "1", "--store", url, "--json"]) == 0
+    rerun = json.loads(capsys.readouterr().out)
+    keys |= set(rerun) | set(rerun["stored"])
+    assert main(["records", "show", "1", "--store", url, "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    keys |= set(shown["options"]) | set(shown["results"]) | set(shown["inputs"][0])
+    from camtol.records.exports import COLUMNS, VOID_COLUMNS
+
+    keys |= set(COLUMNS) | set(VOID_COLUMNS) | {"columns", "rows", "max_abs_difference_um"}
     for name in ("schema_version", "designs", "inspections", "curves", "tolerance_lower_um"):
         keys.add(name)
+    keys |= {"raw_inputs", "inspection_inputs", "alembic_version", "ux_inspections_raw"}
     import re
 
     spans = re.findall(r"`([^`\n]+)`", doc)  # code spans, one line each

@@ -296,8 +296,8 @@ def test_store_failure_mid_insert_stores_nothing_and_leaves_complete_outputs(
 
     make_engine = _store_sql.make_engine
 
-    def failing_engine(url: str) -> Any:
-        engine = make_engine(url)
+    def failing_engine(url: str, **kw: Any) -> Any:
+        engine = make_engine(url, **kw)
 
         @event.listens_for(engine, "before_cursor_execute")
         def boom(conn: Any, cursor: Any, statement: str, *args: Any) -> None:

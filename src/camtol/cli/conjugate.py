@@ -24,7 +24,7 @@ from camtol.cli.common import (
 )
 from camtol.cli.inspection_options import decision_option
 from camtol.cli.options import Number, design_options, step_option
-from camtol.cli.records import add_records, check_store_options, fixture_records, store_options
+from camtol.cli.recording import add_records, check_store_options, fixture_prepared, store_options
 
 __all__ = ["conjugate"]
 
@@ -210,7 +210,7 @@ def conjugate(
         )
         prepared = None  # the records are checked before any output and stored after them
         if store is not None:
-            prepared = fixture_records(store_opts, d, design, example, res, spec)
+            prepared = fixture_prepared(store, store_opts, d, design, example, inputs, run)
         if curves:
             rep.write_fixture_curves_csv(res, curves, record=estimates)
         if plot:
@@ -241,7 +241,7 @@ def conjugate(
                 cmm_fixture_figure(comparison).savefig(
                     tmp, format=Path(cmm_plot).suffix.lstrip(".").lower()
                 )
-        stored = [] if prepared is None else add_records(store or "", *prepared)
+        stored = [] if prepared is None else add_records(store or "", prepared)
         if as_json:
             data = rep.fixture_json(res, spec, d.name, record=estimates)
             data["decision_rule"] = {"rule": rule, "statement": decision_rule_text(rule)}

@@ -23,7 +23,7 @@ from camtol.cli.common import (
     run_guarded,
 )
 from camtol.cli.options import Number, design_options, step_option
-from camtol.cli.records import check_store_options, store_options
+from camtol.cli.recording import check_store_options, store_options
 
 if TYPE_CHECKING:
     from camtol.inspection.registration import Datum
@@ -279,10 +279,8 @@ def inspect(
             from camtol.grid import check_step
 
             n_record = check_step(step_deg, name="--step", min_points=4)
-        from camtol.exceptions import GeometryError
-        from camtol.inspection.cmm import read_scan
-        from camtol.inspection.deviations import cam_profile, inspect_scan
-        from camtol.inspection.functional import functional_deviation
+        from camtol.inspection.cmm_run import CmmInputs, run_cmm
+        from camtol.inspection.deviations import cam_profile
         from camtol.report import inspection_report as rep
 
         d = load_input(design, example)
@@ -290,51 +288,44 @@ def inspect(
         from camtol.cli.tolerancing import parse_motion_spec
 
         spec = parse_motion_spec(prof.mechanism.output, spec_um, spec_deg)
-        scan = read_scan(
-            points_path,
+        kind = None if tolerance_on is None else ("normal" if tolerance_on == "dn" else "radial")
+        inputs = CmmInputs(
+            points_path=points_path,
             cam=cam,  # type: ignore[arg-type]
             stylus_radius_mm=stylus_mm,
             aliases=aliases,
-        )
-        kind = None if tolerance_on is None else ("normal" if tolerance_on == "dn" else "radial")
-        insp = inspect_scan(
-            d,
-            scan,
-            cam=cam,  # type: ignore[arg-type]
             datum=datum,
             tolerance_um=tol,
             tolerance_kind=kind,  # type: ignore[arg-type]
-            profile=prof,
+            harmonics=harmonics,
+            step_deg=step_deg,
+            spec=spec,
         )
-        func = None
-        try:
-            func = functional_deviation(
-                prof, insp, step_deg=step_deg, harmonics=harmonics, spec=spec
-            )
-        except GeometryError as exc:
+        run = run_cmm(d, inputs, profile=prof)
+        if run.functional_error is not None:
             import warnings
 
-            warnings.warn(f"follower error not computed: {exc}", stacklevel=1)
+            warnings.warn(f"follower error not computed: {run.functional_error}", stacklevel=1)
+        insp, func = run.inspection, run.functional
         data = rep.inspection_json(insp, func, design=d.name, stylus_radius_mm=stylus_mm)
         for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
             if wanted is not None and func is None:
                 fail(f"{opt}: the follower error could not be computed (see the warning)")
         prepared = None
-        if store is not None:  # refuse a scan too sparse to record before writing anything
-            from camtol.cli.records import cmm_record, cmm_record_curve
+        if store is not None:  # the record (gap rule, duplicates) is checked before any output
+            from camtol.cli.recording import cmm_prepared
 
-            prepared = cmm_record(
+            prepared = cmm_prepared(
+                store,
                 store_opts,
                 d,
                 design,
                 example,
-                cam=cam if len(d.cams()) > 1 else "",
-                dr_um=cmm_record_curve(insp, n_record),
-                verdict=str(data["verdict"]),
-                tolerance_um=insp.tolerance_um,
-                max_abs_ds_um=None
-                if func is None
-                else func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6),
+                inputs,
+                run,
+                n_points=n_record,
+                spec_um=spec_um,
+                spec_deg=spec_deg,
             )
         fig = None
         if plot or report_path:
@@ -359,9 +350,9 @@ def inspect(
             )
         record_id = None
         if store is not None and prepared is not None:  # after every output file
-            from camtol.cli.records import add_records
+            from camtol.cli.recording import add_records
 
-            record_id = add_records(store, *prepared)[0]
+            record_id = add_records(store, prepared)[0]
         for w in () if quiet else insp.registration.warnings:  # -q: exit status only
             click.echo(f"camtol: warning: {w}", err=True)
         if as_json:

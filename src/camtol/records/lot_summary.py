@@ -2,8 +2,9 @@
 
 :func:`summarise_lot` takes the records a query returned (``camtol records stats``; the
 Python API gets the same) and refuses to pool what must not be pooled (records of several
-cams, records judged against different tolerances), orders the parts for the trend
-(integer serials when every record has one, else inspection order), and computes
+cams, records judged against different tolerances or on different deviations, Δn and Δr),
+orders the parts for the trend (integer serials when every record has one, else
+inspection order), and computes
 :func:`~camtol.records.lots.lot_statistics`. :meth:`LotSummary.to_dict` is the
 ``records stats --json`` document (schema ``records-stats.schema.json``).
 """
@@ -138,8 +139,8 @@ def summarise_lot(
     Raises
     ------
     RecordError
-        A confidence outside (0, 1); no record; records of several cams or judged against
-        different tolerances (naming what to select).
+        A confidence outside (0, 1); no record; records of several cams, judged against
+        different tolerances or on different deviations (Δn, Δr) (naming what to select).
     """
     if not (math.isfinite(confidence) and 0.0 < confidence < 1.0):
         raise RecordError(
@@ -160,6 +161,12 @@ def summarise_lot(
         raise RecordError(
             f"{where}: records taken against different tolerances {tolerances} µm; select one"
             " lot with --lot"
+        )
+    bases = sorted({r.judged_on for r in recs if r.judged_on is not None})
+    if len(bases) > 1:
+        raise RecordError(
+            f"{where}: records judged on different deviations (Δn and Δr: judged_on"
+            f" {', '.join(bases)}) with their tolerances; select them with --method or --lot"
         )
     order, basis = production_order(recs)
     st = lot_statistics(

@@ -1,16 +1,24 @@
 """An inspection record: one inspected cam, as the store keeps it (an I/O edge's data).
 
 The design it was checked against (name and content hash), the part's traceability, the
-method, the verdict, the summary figures, the tolerance, the camtol version and the
-radial deviation curve Δr(θ) on a uniform grid, validated when made
-(:func:`make_record`). Pure data: :mod:`camtol.records.store` writes and reads it.
+method, the verdict, the summary figures, the tolerance and what it was judged on (Δn or
+Δr, the decision rule), the camtol version, the radial deviation curve Δr(θ) on a uniform
+grid, and what makes it re-runnable: the SHA-256 of its raw data, every option the
+verdict depended on and the method's own results, validated when made
+(:func:`make_record`). The raw inputs themselves (a scan, an indicator record, a
+measured Δf: :class:`camtol.records.raw.RawInput`) are kept beside the records,
+compressed, once per SHA-256. A
+record is never deleted: a void marks it, with who, when and why. Pure data:
+:mod:`camtol.records.store` writes and reads it.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import math
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from typing import TYPE_CHECKING, Any, Literal
@@ -25,6 +33,7 @@ if TYPE_CHECKING:
     from camtol.design.cam_design import CamDesign
 
 __all__ = [
+    "SCHEMA_VERSION",
     "InspectionRecord",
     "Method",
     "Traceability",
@@ -33,11 +42,17 @@ __all__ = [
 ]
 
 
+#: Version of the store's tables this camtol writes; a store of a newer one is refused.
+SCHEMA_VERSION = 2
+
 Float32Array = npt.NDArray[np.float32]
 Method = Literal["conjugate-fixture", "cmm"]
 METHODS: tuple[str, ...] = ("conjugate-fixture", "cmm")
 CAMS: tuple[str, ...] = ("A", "B", "")
 VERDICTS: tuple[str, ...] = ("pass", "fail")
+JUDGED_ON: tuple[str, ...] = ("dn", "dr")
+DECISION_RULES: tuple[str, ...] = ("simple", "guard-band")
+MOTION_UNITS: tuple[str, ...] = ("um", "urad")
 _CURVE = "dr_um"
 
 
@@ -92,9 +107,29 @@ class InspectionRecord:
     camtol_version : str
         Version of camtol that made the record.
     n_points : int
-        Number n of points of the deviation curve.
+        Number n of points of the deviation curve (0: a record stored without one).
     dr_um : ndarray of float32
         Deviation curve Δr(θ) at θ_i = 360° i / n (empty when read without curves). [µm]
+    judged_on : {"dn", "dr"} or None
+        The deviation the tolerance bounds: normal Δn or radial Δr (None: not recorded,
+        a record made before schema version 2).
+    decision_rule : {"simple", "guard-band"} or None
+        Conformance rule of the verdict (ISO 14253-1; None: not recorded).
+    motion_unit : {"um", "urad"} or None
+        Unit of ``max_abs_ds_um``: µm for a lift, µrad for a swing (None: not known).
+    raw_sha256 : str or None
+        ``sha256:<hex>`` of the inspection's primary raw data (the scan, the indicator
+        record or the measured Δf); None without raw data.
+    options : dict or None
+        Every option the verdict depended on, JSON-ready (None: not recorded).
+    results : dict or None
+        The method's own figures beyond the summary (Δn extremes, minimum zone, u_f...).
+    duplicate_allowed : bool
+        Stored with ``--allow-duplicate`` (the same raw data for the same serial and cam).
+    voided_at : datetime or None
+        When the record was voided (UTC), None while it stands.
+    voided_by, void_reason : str
+        Who voided it and why ("" while it stands).
     """
 
     id: int | None
@@ -117,6 +152,21 @@ class InspectionRecord:
     camtol_version: str
     n_points: int
     dr_um: Float32Array = field(repr=False)
+    judged_on: str | None = None
+    decision_rule: str | None = None
+    motion_unit: str | None = None
+    raw_sha256: str | None = None
+    options: dict[str, Any] | None = field(default=None, repr=False)
+    results: dict[str, Any] | None = field(default=None, repr=False)
+    duplicate_allowed: bool = False
+    voided_at: datetime | None = None
+    voided_by: str = ""
+    void_reason: str = ""
+
+    @property
+    def voided(self) -> bool:
+        """Whether the record has been voided."""
+        return self.voided_at is not None
 
     @property
     def theta_deg(self) -> FloatArray:
@@ -145,6 +195,15 @@ class InspectionRecord:
             "tolerance_um": list(self.tolerance_um),
             "camtol_version": self.camtol_version,
             "n_points": self.n_points,
+            "judged_on": self.judged_on,
+            "decision_rule": self.decision_rule,
+            "motion_unit": self.motion_unit,
+            "raw_sha256": self.raw_sha256,
+            "duplicate_allowed": self.duplicate_allowed,
+            "voided": self.voided,
+            "voided_at": None if self.voided_at is None else self.voided_at.isoformat(),
+            "voided_by": self.voided_by,
+            "void_reason": self.void_reason,
         }
 
 
@@ -207,10 +266,19 @@ def make_record(
     tolerance_um: tuple[float, float],
     traceability: Traceability,
     max_abs_ds_um: float | None = None,
+    extremes_um: tuple[float, float] | None = None,
+    judged_on: str | None = None,
+    decision_rule: str | None = None,
+    motion_unit: str | None = None,
+    raw_sha256: str | None = None,
+    options: Mapping[str, Any] | None = None,
+    results: Mapping[str, Any] | None = None,
 ) -> InspectionRecord:
     """Validate the parts of a record and compute its summary figures (not stored yet).
 
-    The curve is rounded to float32 first, so the summary describes exactly what is stored.
+    The curve is rounded to float32 first. The extremes and the form are those of the
+    measured values when given (``extremes_um``: a CMM scan's points, not the curve
+    resampled from them), else those of the stored (float32) curve.
 
     Parameters
     ----------
@@ -229,7 +297,21 @@ def make_record(
     traceability : Traceability
         Part number, serial, lot, inspector, instrument, date-time.
     max_abs_ds_um : float, optional
-        Largest |ΔS| of the measured follower motion, when known. [µm]
+        Largest |ΔS| of the measured follower motion, when known. [µm, or µrad]
+    extremes_um : (float, float), optional
+        Largest and smallest measured Δr (default: the curve's). [µm]
+    judged_on : {"dn", "dr"}, optional
+        The deviation the tolerance bounds.
+    decision_rule : {"simple", "guard-band"}, optional
+        Conformance rule of the verdict.
+    motion_unit : {"um", "urad"}, optional
+        Unit of ``max_abs_ds_um``.
+    raw_sha256 : str, optional
+        ``sha256:<hex>`` of the primary raw data.
+    options : mapping, optional
+        Every option the verdict depended on (JSON-ready values).
+    results : mapping, optional
+        The method's own figures (JSON-ready values).
 
     Returns
     -------
@@ -262,8 +344,21 @@ def make_record(
         raise RecordError(f"tolerance_um={tolerance_um!r}: allowed [lower, upper], lower < upper")
     if max_abs_ds_um is not None and not math.isfinite(max_abs_ds_um):
         raise RecordError(f"max_abs_ds_um={max_abs_ds_um!r}: allowed a finite number or None")
+    for name, value, allowed in (
+        ("judged_on", judged_on, JUDGED_ON),
+        ("decision_rule", decision_rule, DECISION_RULES),
+        ("motion_unit", motion_unit, MOTION_UNITS),
+    ):
+        if value is not None and value not in allowed:
+            raise RecordError(f"{name}={value!r}: allowed {', '.join(allowed)} or None")
+    if raw_sha256 is not None and not re.fullmatch(r"sha256:[0-9a-f]{64}", raw_sha256):
+        raise RecordError(f"raw_sha256={raw_sha256!r}: allowed 'sha256:' + 64 hex digits")
     t = traceability
     hi_dev, lo_dev = float(curve.max()), float(curve.min())
+    if extremes_um is not None:
+        hi_dev, lo_dev = float(extremes_um[0]), float(extremes_um[1])
+        if not (math.isfinite(hi_dev) and math.isfinite(lo_dev) and lo_dev <= hi_dev):
+            raise RecordError(f"extremes_um={extremes_um!r}: allowed finite (max, min), min ≤ max")
     return InspectionRecord(
         id=None,
         design_name=_text(design_name, "design_name"),
@@ -285,4 +380,22 @@ def make_record(
         camtol_version=__version__,
         n_points=int(curve.size),
         dr_um=curve,
+        judged_on=judged_on,
+        decision_rule=decision_rule,
+        motion_unit=motion_unit,
+        raw_sha256=raw_sha256,
+        options=_json_object(options, "options"),
+        results=_json_object(results, "results"),
     )
+
+
+def _json_object(value: Mapping[str, Any] | None, name: str) -> dict[str, Any] | None:
+    """Return a JSON-ready copy of a mapping (round-tripped: what is stored is read)."""
+    if value is None:
+        return None
+    try:
+        text = json.dumps(dict(value), sort_keys=True, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise RecordError(f"{name}: allowed JSON-ready values, finite numbers ({exc})") from None
+    out: dict[str, Any] = json.loads(text)
+    return out

@@ -1,20 +1,26 @@
-"""SQLAlchemy Core tables and statements of the inspection store (imported lazily).
+"""SQLAlchemy Core tables of the inspection store and its engines (imported lazily).
 
-Tables (documented in docs/records.md): ``schema_version``, ``designs`` (one row per design
-hash, with its TOML text), ``inspections`` (one row per inspected cam) and ``curves`` (one
-float32 blob per curve of a record). SQLite transactions begin with ``BEGIN IMMEDIATE`` so
-that concurrent writers wait for each other (busy timeout 30 s) instead of failing on a
-lock upgrade; PostgreSQL serialises the first creation of the tables with an advisory lock.
+Tables (documented in docs/records.md), as of schema version 2 (the Alembic revisions in
+:mod:`camtol.records.migrations` build them from nothing or from an older store):
+``schema_version`` (one row: the version), ``designs`` (one row per design hash, with its
+TOML text), ``inspections`` (one row per inspected cam), ``curves`` (one float32 blob per
+curve of a record), ``raw_inputs`` (one zlib blob per raw input, by SHA-256) and
+``inspection_inputs`` (which raw inputs a record was judged on, and as what).
+
+Engines: a writer's SQLite transactions begin with ``BEGIN IMMEDIATE`` so that concurrent
+writers wait for each other (busy timeout 30 s) instead of failing on a lock upgrade; a
+reader opens the file read-only (``mode=ro``) and never takes the write lock; a
+PostgreSQL reader's transactions are read-only.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from datetime import timezone
+from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
-import numpy as np
 from sqlalchemy import (
+    Boolean,
     CheckConstraint,
     Column,
     DateTime,
@@ -30,15 +36,22 @@ from sqlalchemy import (
     Text,
     create_engine,
     event,
-    func,
-    insert,
-    inspect,
-    select,
     text,
 )
+from sqlalchemy.engine import URL, make_url
 
 from camtol.exceptions import RecordError
-from camtol.records.record import InspectionRecord
+
+__all__ = [
+    "curves",
+    "designs",
+    "inspection_inputs",
+    "inspections",
+    "make_engine",
+    "metadata",
+    "raw_inputs",
+    "schema_version",
+]
 
 metadata = MetaData()
 
@@ -55,6 +68,10 @@ designs = Table(
     Column("name", String(200), nullable=False),
     Column("toml", Text, nullable=True),
 )
+
+#: Where a standing record's raw data must be unique for its serial and cam (a partial
+#: unique index: voided records and those stored with --allow-duplicate are left out).
+STANDING_UNIQUE = "voided_at IS NULL AND NOT duplicate_allowed"
 
 inspections = Table(
     "inspections",
@@ -78,10 +95,44 @@ inspections = Table(
     Column("tolerance_lower_um", Double, nullable=False),
     Column("tolerance_upper_um", Double, nullable=False),
     Column("camtol_version", String(64), nullable=False),
+    # schema version 2
+    Column("judged_on", String(2), nullable=True),
+    Column("decision_rule", String(10), nullable=True),
+    Column("motion_unit", String(4), nullable=True),
+    Column("raw_sha256", String(71), nullable=True),
+    Column("options", Text, nullable=True),
+    Column("results", Text, nullable=True),
+    Column("duplicate_allowed", Boolean, nullable=False, server_default=text("false")),
+    Column("voided_at", DateTime(timezone=True), nullable=True),
+    Column("voided_by", String(200), nullable=False, server_default=""),
+    Column("void_reason", String(500), nullable=False, server_default=""),
     CheckConstraint("verdict IN ('pass', 'fail')", name="ck_verdict"),
     CheckConstraint("method IN ('conjugate-fixture', 'cmm')", name="ck_method"),
     CheckConstraint("cam IN ('A', 'B', '')", name="ck_cam"),
     Index("ix_inspections_design_lot", "design_name", "lot"),
+    Index(
+        "ux_inspections_raw",
+        "serial",
+        "cam",
+        "raw_sha256",
+        unique=True,
+        sqlite_where=text(STANDING_UNIQUE),
+        postgresql_where=text(STANDING_UNIQUE),
+    ),
+)
+
+#: Columns of ``inspections`` added by schema version 2 (read as NULL from a version-1 store).
+V2_COLUMNS = (
+    "judged_on",
+    "decision_rule",
+    "motion_unit",
+    "raw_sha256",
+    "options",
+    "results",
+    "duplicate_allowed",
+    "voided_at",
+    "voided_by",
+    "void_reason",
 )
 
 curves = Table(
@@ -98,13 +149,117 @@ curves = Table(
     Column("data", LargeBinary, nullable=False),
 )
 
-_DTYPE = np.dtype("<f4")
+raw_inputs = Table(
+    "raw_inputs",
+    metadata,
+    Column("sha256", String(71), primary_key=True),
+    Column("size_bytes", Integer, nullable=False),
+    Column("compression", String(8), nullable=False),
+    Column("data", LargeBinary, nullable=False),
+)
+
+inspection_inputs = Table(
+    "inspection_inputs",
+    metadata,
+    Column(
+        "inspection_id",
+        Integer,
+        ForeignKey("inspections.id", ondelete="CASCADE"),
+        primary_key=True,
+    ),
+    Column("role", String(200), primary_key=True),
+    Column("name", String(1000), nullable=False),
+    Column("sha256", String(71), ForeignKey("raw_inputs.sha256"), nullable=False),
+)
 
 
-def make_engine(url: str) -> Engine:
-    """Make an engine for ``url``; SQLite gets a busy timeout and BEGIN IMMEDIATE transactions."""
+def sqlite_path(url: str) -> str | None:
+    """Return the file of a SQLite URL (None for another engine or an in-memory database).
+
+    Parameters
+    ----------
+    url : str
+        A database URL.
+
+    Returns
+    -------
+    str or None
+    """
+    if not url.startswith("sqlite"):
+        return None
+    database = make_url(url).database
+    return None if database in (None, "", ":memory:") else database
+
+
+#: Compiled statements, shared by the engines of one URL in a process: a program that
+#: records many inspections (each opening the store) compiles each statement once.
+_COMPILED: dict[tuple[str, bool], Any] = {}
+
+
+def _shared_cache(engine: Engine, url: str, readonly: bool) -> Engine:
+    from sqlalchemy.util import LRUCache
+
+    cache = _COMPILED.setdefault((url, readonly), LRUCache(500))
+    return engine.execution_options(compiled_cache=cache)
+
+
+def recover_hot_journal(path: str) -> bool:
+    """Roll back what a killed SQLite writer left half-written, so that readers can read.
+
+    A writer killed inside its transaction leaves a hot journal (``FILE-journal``); SQLite
+    rolls it back on the next read-write open, restoring the last committed state, but a
+    read-only connection cannot (``attempt to write a readonly database``). This opens the
+    file read-write (never created) just long enough for SQLite's own recovery; nothing
+    else is written.
+
+    Parameters
+    ----------
+    path : str
+        The SQLite file.
+
+    Returns
+    -------
+    bool
+        Whether there was a journal to roll back.
+    """
+    import sqlite3
+
+    if not Path(path + "-journal").exists():
+        return False
+    conn = sqlite3.connect(f"file:{quote(path)}?mode=rw", uri=True, timeout=30.0)
+    try:
+        conn.execute("SELECT count(*) FROM sqlite_master").fetchall()
+    finally:
+        conn.close()
+    return True
+
+
+def make_engine(url: str, *, readonly: bool = False) -> Engine:
+    """Make an engine for ``url``: a writer's (BEGIN IMMEDIATE on SQLite) or a reader's.
+
+    Parameters
+    ----------
+    url : str
+        ``sqlite:///FILE`` or ``postgresql+psycopg://...``.
+    readonly : bool
+        A reader: SQLite opens the file read-only (``mode=ro``, never created, never
+        locked for writing), PostgreSQL runs read-only transactions.
+
+    Returns
+    -------
+    Engine
+    """
     if url.startswith("sqlite"):
-        engine = create_engine(url, connect_args={"timeout": 30.0})
+        path = sqlite_path(url)
+        target: str | URL = url
+        if readonly and path is not None:
+            target = URL.create(
+                "sqlite",
+                database=f"file:{quote(str(Path(path)))}",
+                query={"mode": "ro", "uri": "true"},
+            )
+        engine = create_engine(target, connect_args={"timeout": 30.0})
+        begin = "BEGIN" if readonly else "BEGIN IMMEDIATE"
 
         @event.listens_for(engine, "connect")
         def _connect(dbapi_conn: Any, _record: Any) -> None:
@@ -113,154 +268,15 @@ def make_engine(url: str) -> Engine:
 
         @event.listens_for(engine, "begin")
         def _begin(conn: Any) -> None:
-            conn.exec_driver_sql("BEGIN IMMEDIATE")
+            conn.exec_driver_sql(begin)
 
-        return engine
+        return _shared_cache(engine, url, readonly)
     if url.startswith("postgresql"):
-        return create_engine(url, connect_args={"connect_timeout": 10})
+        args: dict[str, Any] = {"connect_timeout": 10}
+        if readonly:
+            args["options"] = "-c default_transaction_read_only=on"
+        return _shared_cache(create_engine(url, connect_args=args), url, readonly)
     raise RecordError(
         f"--store={url.split('://')[0]}://...: allowed a SQLite file, sqlite:///FILE.db or"
         " postgresql+psycopg://user@host:port/database"
-    )
-
-
-def initialise(engine: Engine, version: int, *, create: bool) -> None:
-    """Create the tables when absent and check the schema version (one transaction)."""
-    with engine.begin() as conn:
-        if engine.dialect.name == "postgresql":
-            conn.execute(text("SELECT pg_advisory_xact_lock(7318120)"))
-        if not inspect(conn).has_table("schema_version"):
-            if not create:
-                raise RecordError(f"--store={engine.url!r} holds no inspection records")
-            metadata.create_all(conn)
-            conn.execute(insert(schema_version).values(version=version))
-            return
-        found = conn.execute(select(func.max(schema_version.c.version))).scalar()
-        if found is None or found > version:
-            raise RecordError(
-                f"--store={engine.url.render_as_string(hide_password=True)!r} has schema"
-                f" version {found}, newer than the version {version} this camtol reads;"
-                " upgrade camtol"
-            )
-        metadata.create_all(conn)  # tables added since (none yet); existing ones untouched
-
-
-def insert_records(
-    engine: Engine, recs: Sequence[InspectionRecord], design_text: str | None
-) -> list[int]:
-    """Insert the designs (if new), the records and their curves in one transaction."""
-    ids: list[int] = []
-    with engine.begin() as conn:
-        for rec in recs:
-            known = conn.execute(
-                select(designs.c.design_hash).where(designs.c.design_hash == rec.design_hash)
-            ).first()
-            if known is None:
-                conn.execute(
-                    insert(designs).values(
-                        design_hash=rec.design_hash, name=rec.design_name, toml=design_text
-                    )
-                )
-            new_id = conn.execute(
-                insert(inspections)
-                .values(
-                    design_name=rec.design_name,
-                    design_hash=rec.design_hash,
-                    method=rec.method,
-                    cam=rec.cam,
-                    part_number=rec.part_number,
-                    serial=rec.serial,
-                    lot=rec.lot,
-                    inspector=rec.inspector,
-                    instrument=rec.instrument,
-                    inspected_at=rec.inspected_at,
-                    verdict=rec.verdict,
-                    max_dev_um=rec.max_dev_um,
-                    min_dev_um=rec.min_dev_um,
-                    form_um=rec.form_um,
-                    max_abs_ds_um=rec.max_abs_ds_um,
-                    tolerance_lower_um=rec.tolerance_um[0],
-                    tolerance_upper_um=rec.tolerance_um[1],
-                    camtol_version=rec.camtol_version,
-                )
-                .returning(inspections.c.id)
-            ).scalar_one()
-            conn.execute(
-                insert(curves).values(
-                    inspection_id=new_id,
-                    name="dr_um",
-                    n_points=int(rec.dr_um.size),
-                    data=np.asarray(rec.dr_um, dtype=_DTYPE).tobytes(),
-                )
-            )
-            ids.append(int(new_id))
-    return ids
-
-
-def select_records(
-    engine: Engine,
-    *,
-    record_id: int | None = None,
-    design: str | None = None,
-    lot: str | None = None,
-    cam: str | None = None,
-    with_curves: bool = True,
-) -> list[InspectionRecord]:
-    """Select the records matching the filters, oldest first."""
-    query = select(inspections, curves.c.n_points, *([curves.c.data] if with_curves else []))
-    query = query.join(
-        curves, (curves.c.inspection_id == inspections.c.id) & (curves.c.name == "dr_um")
-    )
-    if record_id is not None:
-        query = query.where(inspections.c.id == record_id)
-    if design is not None:
-        query = query.where(inspections.c.design_name == design)
-    if lot is not None:
-        query = query.where(inspections.c.lot == lot)
-    if cam is not None:
-        query = query.where(inspections.c.cam == cam)
-    query = query.order_by(inspections.c.inspected_at, inspections.c.id)
-    with engine.connect() as conn:
-        rows = conn.execute(query).mappings().all()
-    return [_record(row, with_curves) for row in rows]
-
-
-def select_design_text(engine: Engine, design_hash: str) -> str | None:
-    """Return the stored TOML text of a design."""
-    with engine.connect() as conn:
-        value = conn.execute(
-            select(designs.c.toml).where(designs.c.design_hash == design_hash)
-        ).scalar()
-    return None if value is None else str(value)
-
-
-def _record(row: Any, with_curve: bool) -> InspectionRecord:
-    when = row["inspected_at"]
-    when = when.replace(tzinfo=timezone.utc) if when.tzinfo is None else when
-    data = (
-        np.frombuffer(bytes(row["data"]), dtype=_DTYPE).astype(np.float32)
-        if with_curve
-        else np.empty(0, dtype=np.float32)
-    )
-    return InspectionRecord(
-        id=int(row["id"]),
-        design_name=row["design_name"],
-        design_hash=row["design_hash"],
-        method=row["method"],
-        cam=row["cam"],
-        part_number=row["part_number"],
-        serial=row["serial"],
-        lot=row["lot"],
-        inspector=row["inspector"],
-        instrument=row["instrument"],
-        inspected_at=when.astimezone(timezone.utc),
-        verdict=row["verdict"],
-        max_dev_um=float(row["max_dev_um"]),
-        min_dev_um=float(row["min_dev_um"]),
-        form_um=float(row["form_um"]),
-        max_abs_ds_um=None if row["max_abs_ds_um"] is None else float(row["max_abs_ds_um"]),
-        tolerance_um=(float(row["tolerance_lower_um"]), float(row["tolerance_upper_um"])),
-        camtol_version=row["camtol_version"],
-        n_points=int(row["n_points"]),
-        dr_um=data,
     )

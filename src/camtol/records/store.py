@@ -2,29 +2,40 @@
 
 Every inspected cam becomes one record: the design it was checked against (name and content
 hash, with the design text kept once per hash), the part's traceability, the method, the
-verdict, the summary figures, the tolerance, the camtol version and the radial deviation
-curve Δr(θ) on a uniform grid. A record is written in one transaction: either the design,
-the record and its curve are all stored, or nothing is.
+verdict and what it was judged on, the summary figures, the tolerance, the camtol version,
+the radial deviation curve Δr(θ) on a uniform grid, and the raw inputs with every option
+the verdict depended on (so that ``camtol records rerun`` can judge the part again). A
+record is written in one transaction: either the design, the record, its curve and its
+raw inputs are all stored, or nothing is. Records are never deleted; a void marks one.
+
+Opening a store says what it is (:func:`camtol.records.migrate.open_schema`): a writer
+creates or upgrades its tables (Alembic), a reader (``readonly=True``) opens it read-only
+and never creates, locks for writing or changes anything. A database that is not a camtol
+store, a damaged one or a newer one is refused, untouched.
 
 The curve is stored as one little-endian float32 blob per curve in a child table
 ``curves`` (not one row per angle): a 0.1° curve is 3,600 values, 14.4 kB as a blob against
 3,600 rows; float32 keeps 24 bits of mantissa, a relative 6e-8 (6e-6 µm on a 100 µm
 deviation), far below any measurement's uncertainty. The grid is implied: θ_i = 360° i / n.
 
-SQLAlchemy (≥ 2.0) is imported lazily: install ``camtol[store]``; PostgreSQL needs
-``camtol[postgres]`` (psycopg 3). The tables are documented in ``docs/records.md``.
+SQLAlchemy (≥ 2.0) and Alembic are imported lazily: install ``camtol[store]``; PostgreSQL
+needs ``camtol[postgres]`` (psycopg 3). The tables are documented in ``docs/records.md``.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, Any
 
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
+from camtol.records.raw import RawInput
+from camtol.records.reader import StoreReader, error_brief, open_error
 from camtol.records.record import (  # the data; re-exported where the store's users find it
+    SCHEMA_VERSION,
     InspectionRecord,
     Method,
     Traceability,
@@ -33,42 +44,57 @@ from camtol.records.record import (  # the data; re-exported where the store's u
 )
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from camtol.design.cam_design import CamDesign
-
-T = TypeVar("T")
 
 __all__ = [
     "SCHEMA_VERSION",
     "InspectionRecord",
     "InspectionStore",
     "Method",
+    "RawInput",
     "Traceability",
     "design_identity",
     "make_record",
     "open_store",
     "record_inspection",
+    "store_url",
 ]
-
-#: Version of the store's tables; a store written by a newer camtol is refused.
-SCHEMA_VERSION = 1
 
 
 def store_url(location: str) -> str:
-    """Return a database URL from ``--store``: a URL as given, else a SQLite file path."""
+    """Return a database URL from ``--store``: a URL as given, else a SQLite file path.
+
+    Parameters
+    ----------
+    location : str
+        A path or a URL.
+
+    Returns
+    -------
+    str
+    """
     if "://" in location:
         return location
     return f"sqlite:///{Path(location).expanduser().resolve()}"
 
 
-def _safe(url: str) -> str:
-    """Return the URL without its password, for messages."""
+def safe_url(url: str) -> str:
+    """Return the URL without its password, for messages.
+
+    Parameters
+    ----------
+    url : str
+        A database URL.
+
+    Returns
+    -------
+    str
+    """
     return re.sub(r"(://[^:/@]*):[^@]*@", r"\1:***@", url)
 
 
-def open_store(location: str, *, create: bool = True) -> InspectionStore:
-    """Open (and on first use create) a store of inspection records.
+def open_store(location: str, *, create: bool = True, readonly: bool = False) -> InspectionStore:
+    """Open (a writer: on first use create, when older upgrade) a store of inspection records.
 
     Parameters
     ----------
@@ -76,7 +102,11 @@ def open_store(location: str, *, create: bool = True) -> InspectionStore:
         A SQLite file path, a ``sqlite:///FILE.db`` URL or a PostgreSQL URL
         ``postgresql+psycopg://user:password@host:port/database``.
     create : bool, optional
-        Create the tables when absent (False: a store without them is an error).
+        Accept a store without tables (a writer creates them; a reader finds no records).
+        False: such a store is an error.
+    readonly : bool, optional
+        Open for reading only: a SQLite file is opened read-only and never created, no
+        table is created or upgraded, no write lock is taken.
 
     Returns
     -------
@@ -86,7 +116,8 @@ def open_store(location: str, *, create: bool = True) -> InspectionStore:
     ------
     RecordError
         SQLAlchemy or the driver missing, the database unreachable, a missing SQLite
-        directory, or a schema newer than this camtol's.
+        directory or file (reading), a database that is not a camtol store, a damaged
+        one or one with a schema newer than this camtol's.
     """
     try:
         import sqlalchemy  # noqa: F401
@@ -94,38 +125,62 @@ def open_store(location: str, *, create: bool = True) -> InspectionStore:
         raise RecordError(
             "--store needs SQLAlchemy: pip install 'camtol[store]' (PostgreSQL: 'camtol[postgres]')"
         ) from None
-    return InspectionStore(store_url(location), create=create)
+    return InspectionStore(store_url(location), create=create, readonly=readonly)
 
 
-class InspectionStore:
-    """Inspection records in a SQL database (see :func:`open_store`). Use as a context manager."""
+class InspectionStore(StoreReader):
+    """Inspection records in a SQL database (see :func:`open_store`). Use as a context manager.
 
-    def __init__(self, url: str, *, create: bool = True) -> None:
+    Parameters
+    ----------
+    url : str
+        The database URL.
+    create : bool
+        Accept a store without tables (see :func:`open_store`).
+    readonly : bool
+        A reader (see :func:`open_store`).
+    """
+
+    def __init__(self, url: str, *, create: bool = True, readonly: bool = False) -> None:
         from camtol.records import schema as sql
+        from camtol.records.migrate import open_schema
 
-        self.url = url
-        self._sql = sql
-        if url.startswith("sqlite:///") and url != "sqlite:///:memory:":
-            parent = Path(url[len("sqlite:///") :]).parent
-            if not parent.is_dir():
-                raise RecordError(f"--store={url!r}: directory {str(parent)!r} does not exist")
+        super().__init__(url, readonly=readonly)
+        self._where = safe_url(url)
+        path = sql.sqlite_path(url) if url.startswith("sqlite") else None
+        if path is not None:
+            p = Path(path)
+            if p.is_dir():
+                raise RecordError(f"--store={url!r}: a directory, not a store file")
+            if not p.parent.is_dir():
+                raise RecordError(f"--store={url!r}: directory {str(p.parent)!r} does not exist")
+            if readonly and not p.exists():
+                raise RecordError(f"--store={url!r}: no such file")
         try:
-            self._engine = sql.make_engine(url)
+            self._engine = sql.make_engine(url, readonly=readonly)
         except RecordError:
             raise
         except Exception as exc:  # a malformed URL, a driver that is not installed
             raise RecordError(
-                f"--store={_safe(url)!r}: cannot open the store ({_brief(exc)})"
+                f"--store={self._where!r}: cannot open the store ({error_brief(exc)})"
             ) from None
+        self.dialect = self._engine.dialect.name
         try:
-            sql.initialise(self._engine, SCHEMA_VERSION, create=create)
+            try:
+                state = open_schema(self._engine, self._where, write=not readonly, create=create)
+            except Exception as exc:  # a writer killed mid-transaction: SQLite's own recovery
+                if not (readonly and path and "readonly" in str(exc)):
+                    raise
+                if not sql.recover_hot_journal(path):
+                    raise
+                state = open_schema(self._engine, self._where, write=False, create=create)
         except Exception as exc:  # driver and connection errors of any backend
             self._engine.dispose()
             if isinstance(exc, RecordError):
                 raise
-            raise RecordError(
-                f"--store={_safe(url)!r}: cannot open the store ({_brief(exc)})"
-            ) from None
+            raise RecordError(f"--store={self._where!r}: {open_error(exc)}") from None
+        #: Schema version of the store (None: an empty database opened for reading).
+        self.version = state.version
 
     def __enter__(self) -> InspectionStore:
         return self
@@ -137,7 +192,18 @@ class InspectionStore:
         """Release the database connections."""
         self._engine.dispose()
 
-    def add(self, record: InspectionRecord, *, design_text: str | None = None) -> int:
+    def _writable(self) -> None:
+        if self.readonly:
+            raise RecordError(f"--store={self._where!r} was opened for reading only")
+
+    def add(
+        self,
+        record: InspectionRecord,
+        *,
+        design_text: str | None = None,
+        inputs: Sequence[RawInput] = (),
+        allow_duplicate: bool = False,
+    ) -> int:
         """Store a record (and the design text, once per hash) in one transaction.
 
         Parameters
@@ -146,16 +212,28 @@ class InspectionStore:
             The record (from :func:`make_record`).
         design_text : str, optional
             The design's TOML text, kept once per design hash.
+        inputs : sequence of RawInput
+            The raw inputs it was judged on (kept compressed, once per SHA-256).
+        allow_duplicate : bool
+            Store it although a standing record of the same serial and cam has the same
+            raw data (``record.raw_sha256``).
 
         Returns
         -------
         int
             The new record's id.
         """
-        return self.add_all([record], design_text=design_text)[0]
+        return self.add_all(
+            [record], design_text=design_text, inputs=inputs, allow_duplicate=allow_duplicate
+        )[0]
 
     def add_all(
-        self, records: Sequence[InspectionRecord], *, design_text: str | None = None
+        self,
+        records: Sequence[InspectionRecord],
+        *,
+        design_text: str | None = None,
+        inputs: Sequence[RawInput] = (),
+        allow_duplicate: bool = False,
     ) -> list[int]:
         """Store several records (e.g. cams A and B of a pair) in one transaction.
 
@@ -165,106 +243,76 @@ class InspectionStore:
             The records (from :func:`make_record`).
         design_text : str, optional
             The designs' TOML text, kept once per design hash.
+        inputs : sequence of RawInput
+            The raw inputs every record was judged on.
+        allow_duplicate : bool
+            See :meth:`add`.
 
         Returns
         -------
         list of int
             The new records' ids, in order. On any error nothing is stored.
-        """
-        try:
-            return list(self._sql.insert_records(self._engine, records, design_text))
-        except Exception as exc:
-            raise RecordError(
-                f"--store={_safe(self.url)!r}: nothing was stored ({_brief(exc)})"
-            ) from None
-
-    def get(self, record_id: int) -> InspectionRecord:
-        """Return the record with this id, with its curve.
-
-        Parameters
-        ----------
-        record_id : int
-            The record's id.
-
-        Returns
-        -------
-        InspectionRecord
 
         Raises
         ------
         RecordError
-            No record has this id.
+            A duplicate (naming the record holding the raw data), or a database error.
         """
-        rec: list[InspectionRecord] = self._guard(
-            lambda: self._sql.select_records(self._engine, record_id=record_id)
-        )
-        if not rec:
-            raise RecordError(f"record id {record_id}: no such record in {_safe(self.url)!r}")
-        return rec[0]
+        self._writable()
+        from camtol.records.writes import insert_records
 
-    def records(
-        self,
-        *,
-        design: str | None = None,
-        lot: str | None = None,
-        cam: str | None = None,
-        with_curves: bool = False,
-    ) -> list[InspectionRecord]:
-        """Return the records matching every filter given, oldest first (by time, then id).
-
-        Parameters
-        ----------
-        design : str, optional
-            Design name.
-        lot : str, optional
-            Lot.
-        cam : str, optional
-            ``"A"``, ``"B"`` or ``""`` (a single cam).
-        with_curves : bool, optional
-            Read the curves too; without, ``dr_um`` is empty (faster for listing).
-
-        Returns
-        -------
-        list of InspectionRecord
-        """
-        return self._guard(
-            lambda: self._sql.select_records(
-                self._engine, design=design, lot=lot, cam=cam, with_curves=with_curves
-            )
-        )
-
-    def design_text(self, design_hash: str) -> str | None:
-        """Return the TOML text stored for a design hash, if any.
-
-        Parameters
-        ----------
-        design_hash : str
-            ``sha256:<hex>``.
-
-        Returns
-        -------
-        str or None
-            The text, None when the design or its text is not stored.
-        """
-        found: str | None = self._guard(
-            lambda: self._sql.select_design_text(self._engine, design_hash)
-        )
-        return found
-
-    def _guard(self, fn: Callable[[], T]) -> T:
         try:
-            return fn()
+            return insert_records(
+                self._engine, records, design_text, inputs, allow_duplicate=allow_duplicate
+            )
         except RecordError:
             raise
         except Exception as exc:
-            raise RecordError(f"--store={_safe(self.url)!r}: {_brief(exc)}") from None
+            raise RecordError(
+                f"--store={self._where!r}: nothing was stored ({error_brief(exc)})"
+            ) from None
 
+    def void(
+        self, record_id: int, *, reason: str, by: str, when: datetime | None = None
+    ) -> InspectionRecord:
+        """Mark a record void, never deleting it: who, when and why are kept.
 
-def _brief(exc: BaseException) -> str:
-    """Return the first line of an exception's message."""
-    orig = getattr(exc, "orig", None) or exc
-    text = str(orig).strip().splitlines()
-    return f"{type(orig).__name__}: {text[0] if text else ''}"
+        Parameters
+        ----------
+        record_id : int
+            The record.
+        reason : str
+            Why (1 to 500 characters, no NUL).
+        by : str
+            Who (at most 200 characters, no NUL).
+        when : datetime, optional
+            When (aware; default now).
+
+        Returns
+        -------
+        InspectionRecord
+            The record, voided.
+
+        Raises
+        ------
+        RecordError
+            No such record, already void, or a reason or name outside what is allowed.
+        """
+        self._writable()
+        self.check_id(record_id)
+        if not reason.strip() or len(reason) > 500 or "\x00" in reason:
+            raise RecordError(
+                f"--reason={reason[:20]!r}: allowed text of 1 to 500 characters without NUL"
+                " (say why the record is void)"
+            )
+        if len(by) > 200 or "\x00" in by:
+            raise RecordError(f"--by={by[:20]!r}: allowed text of at most 200 characters")
+        when = datetime.now(timezone.utc) if when is None else when
+        from camtol.records.writes import void_record
+
+        return self._guard(
+            lambda: void_record(self._engine, record_id, reason=reason, by=by, when=when)
+        )
 
 
 def record_inspection(
@@ -279,6 +327,9 @@ def record_inspection(
     traceability: Traceability,
     design_text: str | None = None,
     max_abs_ds_um: float | None = None,
+    inputs: Sequence[RawInput] = (),
+    allow_duplicate: bool = False,
+    **fields: Any,
 ) -> int:
     """Record one inspected cam in a store (the entry point for ``conjugate`` and ``inspect``).
 
@@ -304,6 +355,14 @@ def record_inspection(
         The design's TOML text (hashed, and kept in the store once per hash).
     max_abs_ds_um : float, optional
         Largest |ΔS| of the measured follower motion, when the method gives it. [µm]
+    inputs : sequence of RawInput
+        The raw inputs (the first is the primary raw data: its SHA-256 is the record's
+        ``raw_sha256`` unless given in ``fields``).
+    allow_duplicate : bool
+        Store it although the same raw data is already recorded for this serial and cam.
+    **fields
+        Further keywords of :func:`make_record` (``extremes_um``, ``judged_on``,
+        ``decision_rule``, ``motion_unit``, ``raw_sha256``, ``options``, ``results``).
 
     Returns
     -------
@@ -311,6 +370,8 @@ def record_inspection(
         The record's id.
     """
     name, digest = design_identity(design, design_text)
+    if inputs and "raw_sha256" not in fields:
+        fields["raw_sha256"] = inputs[0].sha256
     rec = make_record(
         design_name=name,
         design_hash=digest,
@@ -321,8 +382,13 @@ def record_inspection(
         tolerance_um=tolerance_um,
         traceability=traceability,
         max_abs_ds_um=max_abs_ds_um,
+        **fields,
     )
     if isinstance(location, InspectionStore):
-        return location.add(rec, design_text=design_text)
+        return location.add(
+            rec, design_text=design_text, inputs=inputs, allow_duplicate=allow_duplicate
+        )
     with open_store(location) as store:
-        return store.add(rec, design_text=design_text)
+        return store.add(
+            rec, design_text=design_text, inputs=inputs, allow_duplicate=allow_duplicate
+        )
