@@ -229,6 +229,34 @@ def _traceability_options(f: Any) -> Any:
     return f
 
 
+def dynamics_report_section(design: Any) -> str:
+    """HTML section of a design's ``[dynamics]`` table at its speed (THEORY §9).
+
+    A table the report cannot study (no ``operation.speed_rpm``, no mass) gives a section
+    that says why; the report is still written.
+
+    Parameters
+    ----------
+    design : CamDesign
+        A design with a ``[dynamics]`` table.
+
+    Returns
+    -------
+    str
+        The section (:func:`camtol.report.dynamics.dynamics_section`).
+    """
+    from camtol.dynamics.run import DynamicsInputs, run_dynamics
+    from camtol.exceptions import DesignError
+    from camtol.report.dynamics import dynamics_section
+
+    if design.speed_rpm is None:
+        return dynamics_section(None, note="the design gives no operation.speed_rpm")
+    try:
+        return dynamics_section(run_dynamics(design, DynamicsInputs()))
+    except DesignError as exc:
+        return dynamics_section(None, note=str(exc))
+
+
 @click.command()
 @design_options
 @click.option(
@@ -349,6 +377,8 @@ def report(
 
             study = monte_carlo(d, mc_samples, spec=mc_spec, band=mc_curves, step_deg=step_deg)
             sections.append(montecarlo_section(study, d))
+        if d.extras.get("dynamics") is not None:  # the design's [dynamics] table (issue 33)
+            sections.append(dynamics_report_section(d))
         fixture = None
         from camtol.pair.fixture_run import run_fixture
         from camtol.pair.kinematics import is_pair

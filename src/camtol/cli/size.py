@@ -1,5 +1,8 @@
 """``camtol size``: the smallest base radius (and best offset) that makes a design work.
 
+With ``--jump-margin M`` it also proposes the return spring (rate and preload) that keeps
+a force-closed follower on the cam up to M times the running speed (THEORY §9.8).
+
 Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 0 when a size is
 found, 2 on bad input or when no base radius can meet the requirements.
 """
@@ -12,6 +15,7 @@ from typing import Any
 import click
 
 from camtol.cli.common import EXIT_OK, _Exit, echo_json, load_input, run_guarded
+from camtol.cli.dynamics import train_options, train_overrides
 from camtol.cli.options import Number, design_options, step_option
 
 __all__ = ["size"]
@@ -19,6 +23,18 @@ __all__ = ["size"]
 
 def _finite(x: float) -> float | None:
     return x if math.isfinite(x) else None
+
+
+def spring_json(proposal: Any) -> dict[str, Any]:
+    """JSON-ready dict of a :class:`~camtol.dynamics.spring.SpringProposal` (file units)."""
+    osc = proposal.train.output == "oscillating"
+    return {
+        "spring_rate_nm_per_rad" if osc else "spring_rate_n_per_mm": proposal.spring_rate,
+        "preload_nm" if osc else "preload_n": proposal.preload,
+        "rpm": proposal.rpm,
+        "jump_margin": proposal.margin,
+        "jump_speed_rpm": proposal.jump_speed_rpm,
+    }
 
 
 def sizing_json(result: Any) -> dict[str, Any]:
@@ -78,6 +94,21 @@ def sizing_json(result: Any) -> dict[str, Any]:
     help="Also choose the offset of a translating roller follower (smallest max |φ|).",
 )
 @step_option(max_points=360_000)
+@click.option(
+    "--jump-margin",
+    "jump_margin",
+    type=Number(low=1, low_open=True),
+    metavar="M",
+    help="Also propose the return spring (rate, preload) that keeps the follower on the"
+    " cam up to M × the running speed (THEORY §9.8); the train from [dynamics].",
+)
+@click.option(
+    "--rpm",
+    type=Number(low=0, low_open=True, unit="rpm"),
+    metavar="RPM",
+    help="Running speed for --jump-margin [rpm] (default: operation.speed_rpm).",
+)
+@train_options
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 def size(
     design: str | None,
@@ -87,18 +118,32 @@ def size(
     cutter_radius_mm: float | None,
     optimise_offset: bool,
     step_deg: float,
+    jump_margin: float | None,
+    rpm: float | None,
     as_json: bool,
+    **train: Any,
 ) -> None:
     """Find the smallest base radius (and offset) meeting the pressure-angle and curvature limits.
 
     Every other dimension and the motion are kept; every cam of the design is checked
-    (both cams of a conjugate pair).
+    (both cams of a conjugate pair). With --jump-margin, also the return spring of a
+    force-closed follower for that margin over the running speed (--rpm).
     """
 
     def body() -> int:
         from camtol.analysis.sizing import minimum_base_radius
 
+        overrides = train_overrides(train)
+        if jump_margin is None and (rpm is not None or overrides):
+            from camtol.cli.common import fail
+
+            fail("--rpm and the train's options are for --jump-margin: give it too")
         d = load_input(design, example)
+        spring = None
+        if jump_margin is not None:
+            from camtol.dynamics.spring import size_spring
+
+            spring = size_spring(d, rpm, jump_margin, overrides=overrides)
         r = minimum_base_radius(
             d,
             pressure_angle_limit_deg=limit_deg,
@@ -108,7 +153,10 @@ def size(
             step_deg=step_deg,
         )
         if as_json:
-            echo_json(sizing_json(r), command="size")
+            doc = sizing_json(r)
+            if spring is not None:
+                doc["spring"] = spring_json(spring)
+            echo_json(doc, command="size")
             return EXIT_OK
         click.echo(f"design             {d.name}")
         click.echo(
@@ -128,6 +176,19 @@ def size(
                     if math.isfinite(c.min_concave_radius_mm)
                     else "; no concave stretch"
                 )
+            )
+        if spring is not None:
+            osc = spring.train.output == "oscillating"
+            k_unit, p_unit = ("N·m/rad", "N·m") if osc else ("N/mm", "N")
+            j = spring.jump_speed_rpm
+            jump = "none found" if j is None else f"{j:.6g} rpm"
+            click.echo(
+                f"return spring      {spring.spring_rate:.4g} {k_unit},"
+                f" preload {spring.preload:.4g} {p_unit}"
+            )
+            click.echo(
+                f"                   jump speed {jump} ({spring.margin:g} × {spring.rpm:g} rpm"
+                " wanted)"
             )
         return EXIT_OK
 

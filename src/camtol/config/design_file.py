@@ -275,6 +275,8 @@ class DesignSchema(_Strict):
     inspection: dict[str, Any] = {}
     # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
     statistics: dict[str, Any] = {}
+    # The follower train at speed, parsed by camtol.config.dynamics_table (issue 33).
+    dynamics: dict[str, Any] = {}
     traceability: TraceabilitySchema = TraceabilitySchema()
     drawing: DrawingSchema = DrawingSchema()
 
@@ -484,6 +486,11 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
             from camtol.config.statistics_table import parse_statistics
 
             design.extras["statistics"] = parse_statistics(raw, design)
+        raw = design.extras.get("dynamics")
+        if isinstance(raw, Mapping):  # validated now, kept as the design's table
+            from camtol.config.dynamics_table import parse_dynamics
+
+            design.extras["dynamics"] = parse_dynamics(raw, design)
         return design
     except ConfigError:
         raise
@@ -492,7 +499,7 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
 
 
 def _extras(top: DesignSchema) -> dict[str, object]:
-    """``[traceability]``, ``[drawing]``, ``[statistics]`` as ``CamDesign.extras``."""
+    """Return ``[traceability]``, ``[drawing]``, ``[statistics]``, ``[dynamics]`` as extras."""
     out: dict[str, object] = {}
     trace = top.traceability.model_dump(exclude_none=True)
     if trace:
@@ -500,6 +507,8 @@ def _extras(top: DesignSchema) -> dict[str, object]:
     out.update(top.drawing.model_dump(exclude_none=True))
     if top.statistics:
         out["statistics"] = top.statistics
+    if top.dynamics:
+        out["dynamics"] = top.dynamics
     return out
 
 

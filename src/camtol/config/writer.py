@@ -62,6 +62,14 @@ def _motion_table(design: CamDesign) -> dict[str, Any]:
     raise ConfigError(f"motion program {type(program).__name__} cannot be written to a file")
 
 
+def _dynamics_table(design: CamDesign) -> dict[str, Any] | None:
+    """Return the ``[dynamics]`` table as written in the file it came from (None: none)."""
+    from camtol.dynamics.train import DynamicsTable
+
+    table = design.extras.get("dynamics")
+    return (table.to_mapping() or None) if isinstance(table, DynamicsTable) else None
+
+
 def dump_design(design: CamDesign) -> str:
     """Write a design as a design file (TOML) that reads back equal.
 
@@ -70,8 +78,8 @@ def dump_design(design: CamDesign) -> str:
     value that converts to the design's internal value bit for bit (an angle in degrees
     whose radians are exactly the stored ones), a lift table inline
     (``table_step_deg`` and ``table_lift_mm``/``table_lift_deg``, whatever file it came
-    from), tolerances as given (grade or deviation), and the ``[inspection]`` table as
-    read. Comments of the original file are not kept.
+    from), tolerances as given (grade or deviation), and the ``[inspection]`` and
+    ``[dynamics]`` tables as read. Comments of the original file are not kept.
 
     Parameters
     ----------
@@ -117,5 +125,6 @@ def dump_design(design: CamDesign) -> str:
         "tolerances": tolerances or None,
         "operation": {k: v for k, v in operation.items() if v is not None} or None,
         "inspection": (design.inspection.to_mapping() or None) if design.inspection else None,
+        "dynamics": _dynamics_table(design),
     }
     return toml_writer.dumps(doc)
