@@ -28,6 +28,7 @@ BENCHMARKS = [
     "bench_record",
     "bench_store",
     "bench_montecarlo",
+    "bench_dynamics",
 ]
 
 if __name__ == "__main__":

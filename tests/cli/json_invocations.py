@@ -15,6 +15,18 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--spec-um", "25", "--json"],
         ["montecarlo", "-e", "roller-translating", "--samples", "50", "--mode", "exact", "--json"],
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--band", "{band}", "--json"],
+        [  # a conjugate pair as a pair, with its pair yield
+            "montecarlo",
+            "-e",
+            "cw11-conjugate",
+            "--samples",
+            "2000",
+            "--interference-max-um",
+            "30",
+            "--backlash-max-um",
+            "30",
+            "--json",
+        ],
     ],
     "allocate": [
         ["allocate", "-e", "cw06-translating", "--spec-um", "30", "--json"],
@@ -29,6 +41,9 @@ INVOCATIONS: dict[str, list[list[str]]] = {
             "--json",
         ],
         ["allocate", "-e", "cw06-translating", "--band", "{band}", "--json"],
+        ["allocate", "-e", "cw11-conjugate", "--criterion", "pair_yield"]
+        + ["--interference-max-um", "200", "--backlash-max-um", "200", "--samples", "500"]
+        + ["--json"],
     ],
     "analyze": [
         ["analyze", "-e", "cw06-translating", "--step", "0.5", "--json"],
@@ -56,11 +71,21 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "size": [
         ["size", "-e", "roller-translating", "--json"],
         ["size", "-e", "cw06-translating", "--json"],
+        ["size", "-e", "roller-translating", "--jump-margin", "1.3", "--mass-kg", "0.5", "--json"],
     ],
     "precision": [
         ["precision", "-e", "roller-translating", "--decimals", "4", "--json"],
         ["precision", "-e", "popa-eccentric", "--accel-budget", "1", "--json"],
         ["precision", "{turning}", "--decimals", "4", "--json"],  # quantum_deg, deg_per_s
+    ],
+    "dynamics": [  # the fixed keys of issue 33: rigid, elastic above its jump, oscillating
+        ["dynamics", "-e", "popa-eccentric", "--rpm", "1200", "--mass-kg", "1"]
+        + ["--spring-rate-n-per-mm", "10", "--preload-n", "100", "--json"],
+        ["dynamics", "-e", "roller-translating", "--rpm", "1300", "--mass-kg", "1"]
+        + ["--spring-rate-n-per-mm", "10", "--preload-n", "100", "--face-width-mm", "10"]
+        + ["--follower-stiffness-n-per-mm", "1e4", "--json"],
+        ["dynamics", "-e", "roller-oscillating", "--rpm", "1000", "--inertia-kg-mm2", "3000"]
+        + ["--spring-rate-nm-per-rad", "20", "--preload-nm", "2", "--json"],
     ],
     "cut": [
         ["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"],
@@ -89,6 +114,9 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["records", "list", "--store", "{store}", "--method", "cmm", "--json"],
     ],
     "records show": [["records", "show", "1", "--store", "{store}", "--json"]],
+    "records rerun": [  # a CMM record and a fixture record, judged again from their raw data
+        ["records", "rerun", rid, "--store", "{store}", "--json"] for rid in ("1", "4")
+    ],
     "records stats": [
         ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--json"]
         + ["--cam", cam]

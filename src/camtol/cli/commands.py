@@ -45,6 +45,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
         " limits.",
     ),
+    "dynamics": (
+        "camtol.cli.dynamics",
+        "dynamics",
+        "Follower dynamics at speed: contact force, jump, vibration, torque, contact stress.",
+    ),
     "precision": (
         "camtol.cli.manufacturing",
         "precision",
@@ -63,7 +68,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "records": (
         "camtol.cli.records",
         "records",
-        "Query stored inspection records: list, show one, lot statistics (SQLite, PostgreSQL).",
+        "Inspection records: list, show, lot statistics, re-run, void, export (SQL).",
     ),
     "montecarlo": (
         "camtol.cli.tolerancing",
