@@ -34,7 +34,7 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 PACKAGE = Path(camtol.__file__).parent
-PYPROJECT = PACKAGE.parent.parent / "pyproject.toml"
+PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"  # the checkout's
 
 
 def _module_name(path: Path) -> str:
