@@ -43,9 +43,10 @@ def main(samples: int = 100_000) -> list[Figure]:
 
     # the floor: the same per-sample work, the matrices given, in plain numpy
     ga, gb, gdf = study.motion["A"].T, study.motion["B"].T, study.df.T
-    fixture = [
-        (r0, r1.T, study.bands.band_um(letter)) for letter, (r0, r1) in study.readings.items()
-    ]
+    fixture = []
+    for letter, (r0, r1, at) in study.readings.items():
+        up, lo = study.bands.band_um(letter)
+        fixture.append((r0, r1.T, (up[at], lo[at])))
     centre = study.centre_column
 
     def plain() -> object:

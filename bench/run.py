@@ -28,6 +28,7 @@ BENCHMARKS = [
     "bench_record",
     "bench_store",
     "bench_montecarlo",
+    "bench_pair",
     "bench_dynamics",
 ]
 
