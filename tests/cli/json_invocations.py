@@ -15,6 +15,9 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--spec-um", "25", "--json"],
         ["montecarlo", "-e", "roller-translating", "--samples", "50", "--mode", "exact", "--json"],
         ["montecarlo", "-e", "cw06-translating", "--samples", "2000", "--band", "{band}", "--json"],
+        ["montecarlo", "-e", "popa-eccentric", "--samples", "500", "--dynamics", "--rpm"]
+        + ["600", "--mass-kg", "0.5", "--spring-rate-n-per-mm", "10", "--preload-n", "50"]
+        + ["--force-min-n", "55", "--json"],  # every sample at speed (issue 33)
         [  # a conjugate pair as a pair, with its pair yield
             "montecarlo",
             "-e",

@@ -73,3 +73,27 @@ def test_a_pair_and_bad_shapes_are_refused() -> None:
         column_responses(
             single, train, 100.0, ["r"], np.zeros((36, 1)), np.zeros((36, 1)), step_deg=1.0
         )
+
+
+def test_montecarlo_dynamics_from_the_command_line(capsys: pytest.CaptureFixture[str]) -> None:
+    """`camtol montecarlo --dynamics`: the forces of the sampled cams around the nominal."""
+    import json
+
+    from camtol.cli import main
+
+    train = ["--rpm", "600", "--mass-kg", "0.5", "--spring-rate-n-per-mm", "10"]
+    train += ["--preload-n", "50"]
+    assert main(["dynamics", "-e", "popa-eccentric", *train, "--json"]) == 0
+    nominal = json.loads(capsys.readouterr().out)
+    args = ["montecarlo", "-e", "popa-eccentric", "-n", "2000", "--dynamics", *train]
+    assert main([*args, "--force-min-n", "55", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)["dynamics"]
+    peak, least = doc["peak_force_n"], doc["min_force_n"]
+    # IT6 profile errors move the forces by a fraction of a newton around the nominal
+    assert peak["min"] <= nominal["contact_force_max_n"] <= peak["max"]
+    assert least["min"] <= nominal["contact_force_min_n"] <= least["max"]
+    assert peak["max"] - peak["min"] < 1.0
+    assert doc["yield"]["value"] == 1.0  # 55 N is far below the least force (≈ 59.9 N)
+    no_flag = ["montecarlo", "-e", "popa-eccentric", "-n", "200", "--rpm", "600"]
+    assert main(no_flag) == 2  # a speed without --dynamics
+    assert "go with --dynamics" in capsys.readouterr().err

@@ -28,6 +28,7 @@ from camtol.cli.common import (
     load_input,
     run_guarded,
 )
+from camtol.cli.dynamics import train_options, train_overrides
 from camtol.cli.options import Number, design_options, seed_option, step_option
 
 __all__ = ["allocate", "band_option", "montecarlo", "parse_motion_spec"]
@@ -187,6 +188,24 @@ def _plot(shown: Any, path: str) -> None:
     metavar="N",
     help="Exact Sobol indices with N rows (conjugate pair; THEORY §5).",
 )
+@click.option(
+    "--dynamics",
+    "at_speed",
+    is_flag=True,
+    help="Also run every sample at speed: contact forces, vibration (THEORY §9.7).",
+)
+@click.option(
+    "--rpm", type=Number(low=0, low_open=True, unit="rpm"), metavar="RPM", help="--dynamics speed."
+)
+@train_options
+@click.option("--force-min-n", type=float, metavar="N", help="--dynamics: least contact force.")
+@click.option("--force-max-n", type=float, metavar="N", help="--dynamics: largest contact force.")
+@click.option(
+    "--jump-margin",
+    type=Number(low=1, low_open=True),
+    metavar="X",
+    help="--dynamics: contact kept at X times the speed.",
+)
 def montecarlo(
     design: str | None,
     example: str | None,
@@ -206,6 +225,12 @@ def montecarlo(
     interference_max_um: float | None,
     backlash_max_um: float | None,
     sobol: int | None,
+    at_speed: bool,
+    rpm: float | None,
+    force_min_n: float | None,
+    force_max_n: float | None,
+    jump_margin: float | None,
+    **train: Any,
 ) -> None:
     """Monte Carlo tolerance analysis: ΔS band, max |ΔS|, yield, contributions.
 
@@ -226,6 +251,9 @@ def montecarlo(
         )
         from camtol.pair.kinematics import is_pair
 
+        speed_flags = (rpm, force_min_n, force_max_n, jump_margin, *train.values())
+        if not at_speed and any(v is not None for v in speed_flags):
+            fail("--rpm, the train options and the force specs go with --dynamics")
         if is_pair(d):
             refuse_pair_flags(
                 {
@@ -235,6 +263,7 @@ def montecarlo(
                     "--plot": plot,
                     "--scheduler": scheduler,
                     "--derivatives": derivatives or None,
+                    "--dynamics": at_speed or None,
                 }
             )
             return pair_montecarlo(
@@ -273,6 +302,21 @@ def montecarlo(
         from camtol.report.tolerancing_display import display_montecarlo
 
         shown = display_montecarlo(res, d)
+        speed_doc = None
+        if at_speed:
+            from camtol.tolerancing.dynamics_study import monte_carlo_dynamics
+
+            speed_doc = monte_carlo_dynamics(
+                d,
+                samples,
+                rpm=rpm,
+                overrides=train_overrides(train),
+                seed=seed,
+                step_deg=step_deg,
+                force_min_n=force_min_n,
+                force_max_n=force_max_n,
+                jump_margin=jump_margin,
+            )
         for w in res.warnings:
             click.echo(f"warning: {w}", err=True)
         from camtol.report.tolerancing_text import curves_csv, montecarlo_lines
@@ -284,13 +328,38 @@ def montecarlo(
         if plot:
             _plot(shown, plot)
         if as_json:
-            echo_json(shown.to_dict(), command="montecarlo")
+            doc = shown.to_dict()
+            if speed_doc is not None:
+                doc["dynamics"] = speed_doc
+            echo_json(doc, command="montecarlo")
         else:
             for line in montecarlo_lines(shown):
                 click.echo(line)
+            if speed_doc is not None:
+                for line in _speed_lines(speed_doc):
+                    click.echo(line)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+def _speed_lines(doc: dict[str, Any]) -> list[str]:
+    """Return the ``--dynamics`` part of the terminal summary (80 columns)."""
+    peak, least = doc["peak_force_n"], doc["min_force_n"]
+    out = [
+        f"at {doc['rpm']:g} rpm, over {doc['samples']:,} samples (THEORY §9.7):",
+        f"  peak contact force  mean {peak['mean']:.4g} N, 99.865 % {peak['q99865']:.4g} N",
+        f"  least contact force mean {least['mean']:.4g} N, 0.135 % {least['q00135']:.4g} N",
+    ]
+    for key, unit in (("residual_vibration_um", "µm"), ("residual_vibration_deg", "°")):
+        vib = doc.get(key)
+        if vib is not None:
+            out.append(f"  residual vibration  mean {vib['mean']:.4g}, max {vib['max']:.4g} {unit}")
+    y = doc["yield"]
+    if y is not None:
+        lo, hi = y["ci95"]
+        out.append(f"  yield at speed      {y['value']:.2%} (95 % CI {lo:.2%} .. {hi:.2%})")
+    return out
 
 
 def _warn_unmet(res: Any) -> None:
