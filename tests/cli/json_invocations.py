@@ -18,6 +18,7 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["montecarlo", "-e", "popa-eccentric", "--samples", "500", "--dynamics", "--rpm"]
         + ["600", "--mass-kg", "0.5", "--spring-rate-n-per-mm", "10", "--preload-n", "50"]
         + ["--force-min-n", "55", "--json"],  # every sample at speed (issue 33)
+        ["montecarlo", "-e", "cw06-translating", "--samples", "1000", "--sobol", "64", "--json"],
         [  # a conjugate pair as a pair, with its pair yield
             "montecarlo",
             "-e",

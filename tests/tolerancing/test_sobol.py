@@ -52,3 +52,18 @@ def test_same_seed_same_indices() -> None:
 def test_too_few_samples() -> None:
     with pytest.raises(DesignError, match="at least 64"):
         exact_sobol(CW06, 10)
+
+
+def test_montecarlo_sobol_from_the_command_line(capsys: pytest.CaptureFixture[str]) -> None:
+    """`camtol montecarlo --sobol N` prints the library's indices (same seed, same N)."""
+    import json
+
+    from camtol.cli import main
+
+    args = ["montecarlo", "-e", "cw06-translating", "-n", "1000", "--sobol", "64", "--json"]
+    assert main(args) == 0
+    doc = json.loads(capsys.readouterr().out)["sobol"]
+    lib = exact_sobol(CW06, 64, step_deg=1.0, seed=0)
+    for name, indices in lib.items():
+        firsts = [doc[name][lab]["first"] for lab in indices.labels]
+        np.testing.assert_allclose(firsts, indices.first, rtol=1e-9)

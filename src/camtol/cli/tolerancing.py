@@ -186,7 +186,7 @@ def _plot(shown: Any, path: str) -> None:
     "--sobol",
     type=Number(low=64, high=100_000, integer=True),
     metavar="N",
-    help="Exact Sobol indices with N rows (conjugate pair; THEORY §5).",
+    help="Exact Sobol indices with N rows (max |ΔS|, ΔS at its worst angle; a pair's Δf).",
 )
 @click.option(
     "--dynamics",
@@ -279,8 +279,6 @@ def montecarlo(
                 curves=curves,
             )
         refuse_single_cam_flags(interference_max_um, backlash_max_um, d.mechanism.kind)
-        if sobol is not None:
-            fail("--sobol is computed for a conjugate pair only (camtol.tolerancing.sobol)")
         spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         limits = band_option(d, band, spec)
         from camtol.tolerancing import monte_carlo
@@ -302,6 +300,12 @@ def montecarlo(
         from camtol.report.tolerancing_display import display_montecarlo
 
         shown = display_montecarlo(res, d)
+        sobol_doc = None
+        if sobol is not None:
+            from camtol.tolerancing.sobol import exact_sobol
+
+            found = exact_sobol(d, sobol, seed=seed, step_deg=1.0)
+            sobol_doc = {k: v.to_dict() for k, v in found.items()}
         speed_doc = None
         if at_speed:
             from camtol.tolerancing.dynamics_study import monte_carlo_dynamics
@@ -331,6 +335,8 @@ def montecarlo(
             doc = shown.to_dict()
             if speed_doc is not None:
                 doc["dynamics"] = speed_doc
+            if sobol_doc is not None:
+                doc["sobol"] = sobol_doc
             echo_json(doc, command="montecarlo")
         else:
             for line in montecarlo_lines(shown):
@@ -338,6 +344,9 @@ def montecarlo(
             if speed_doc is not None:
                 for line in _speed_lines(speed_doc):
                     click.echo(line)
+            for key, indices in (sobol_doc or {}).items():
+                firsts = ", ".join(f"{k} {v['first']:.2f}" for k, v in indices.items())
+                click.echo(f"Sobol first-order, {key} (exact): {firsts}")
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
