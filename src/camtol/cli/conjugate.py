@@ -178,7 +178,7 @@ def conjugate(
         check_output_path(cmm_plot, "--cmm-plot", [".png", ".svg", ".pdf"])
         if cmm_plot and cmm_a is None:
             fail("--cmm-plot needs the CMM scans: give --cmm-a and --cmm-b")
-        from camtol.cli.inspection_options import fixture_inputs
+        from camtol.cli.inspection_options import command_fixture_inputs
         from camtol.pair.decision import decision_rule_text
         from camtol.pair.fixture_run import run_fixture
         from camtol.pair.kinematics import require_pair
@@ -187,19 +187,7 @@ def conjugate(
         store = check_store_options(store_opts)
         d = load_input(design, example)
         require_pair(d, "`camtol conjugate` needs")
-        inputs = fixture_inputs(
-            df_mea=df_mea,
-            record_path=record_path,
-            drop_bad_revolutions=drop_bad_revolutions,
-            master_a=master_a,
-            master_b=master_b,
-            decision=decision,
-            step_deg=step_deg,
-            cmm_a=cmm_a,
-            cmm_b=cmm_b,
-            cmm_stylus_mm=cmm_stylus_mm,
-            cmm_datum=cmm_datum,
-        )
+        inputs = command_fixture_inputs()
         run = run_fixture(d, inputs, who="`camtol conjugate` needs")
         res, spec, estimates, rule, comparison = (
             run.inspection,

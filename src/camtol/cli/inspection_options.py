@@ -24,6 +24,7 @@ __all__ = [
     "decision_option",
     "has_inspection_input",
     "inspection_options",
+    "command_fixture_inputs",
     "fixture_inputs",
 ]
 
@@ -213,3 +214,35 @@ def fixture_inputs(
         cmm_datum=None if cmm_a is None else parse_datum(cmm_datum, None, None, "soft_l1"),
         step_deg=step_deg,
     )
+
+
+#: The options of :func:`inspection_options` (and ``--step``) that make the inputs.
+_FIXTURE_OPTIONS = (
+    "df_mea",
+    "record_path",
+    "drop_bad_revolutions",
+    "master_a",
+    "master_b",
+    "decision",
+    "step_deg",
+    "cmm_a",
+    "cmm_b",
+    "cmm_stylus_mm",
+    "cmm_datum",
+)
+
+
+def command_fixture_inputs() -> FixtureInputs:
+    """Build the fixture inputs from the running command's own options.
+
+    ``camtol conjugate`` and ``camtol report`` take the same options
+    (:func:`inspection_options`); they are read from click's context, so that no
+    command repeats them.
+
+    Returns
+    -------
+    FixtureInputs
+        As :func:`fixture_inputs` of the command's option values.
+    """
+    params = click.get_current_context().params
+    return fixture_inputs(**{name: params[name] for name in _FIXTURE_OPTIONS})

@@ -24,7 +24,7 @@ from camtol.cli.common import (
 )
 from camtol.cli.inspection_options import (
     check_cmm_options,
-    fixture_inputs,
+    command_fixture_inputs,
     has_inspection_input,
     inspection_options,
 )
@@ -391,19 +391,7 @@ def report(
             from camtol.pair.fixture import MAX_FIXTURE_POINTS
 
             check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
-            inputs = fixture_inputs(
-                df_mea=df_mea,
-                record_path=record_path,
-                drop_bad_revolutions=drop_bad_revolutions,
-                master_a=master_a,
-                master_b=master_b,
-                decision=decision,
-                step_deg=step_deg,
-                cmm_a=cmm_a,
-                cmm_b=cmm_b,
-                cmm_stylus_mm=cmm_stylus_mm,
-                cmm_datum=cmm_datum,
-            )
+            inputs = command_fixture_inputs()
             run = run_fixture(d, inputs, who="the inspection options of `camtol report` need")
             fixture = InspectionReport(run.inspection, run.spec, run.record, run.decision)
         elif has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b) or (

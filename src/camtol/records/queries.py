@@ -194,12 +194,22 @@ def select_input_list(engine: Engine, record_id: int, *, version: int) -> list[d
     """
     if version < 2:
         return []
+    rows = _input_rows(engine, record_id)
+    return [
+        {"role": role, "name": name, "sha256": digest, "size_bytes": size}
+        for role, name, digest, size in rows
+    ]
+
+
+def _input_rows(engine: Engine, record_id: int, *extra: Any) -> list[Any]:
+    """Return a record's inputs by role: role, name, SHA-256, size, then ``extra``."""
     query = (
         select(
             inspection_inputs.c.role,
             inspection_inputs.c.name,
             inspection_inputs.c.sha256,
             raw_inputs.c.size_bytes,
+            *extra,
         )
         .select_from(
             inspection_inputs.outerjoin(
@@ -211,11 +221,8 @@ def select_input_list(engine: Engine, record_id: int, *, version: int) -> list[d
     )
     with engine.connect() as conn:
         rows = conn.execute(query).all()
-        conn.rollback()
-    return [
-        {"role": role, "name": name, "sha256": digest, "size_bytes": size}
-        for role, name, digest, size in rows
-    ]
+        conn.rollback()  # a reader never holds a transaction open
+    return list(rows)
 
 
 def select_inputs(engine: Engine, record_id: int, *, version: int) -> list[RawInput]:
@@ -243,25 +250,7 @@ def select_inputs(engine: Engine, record_id: int, *, version: int) -> list[RawIn
     """
     if version < 2:
         return []
-    query = (
-        select(
-            inspection_inputs.c.role,
-            inspection_inputs.c.name,
-            inspection_inputs.c.sha256,
-            raw_inputs.c.size_bytes,
-            raw_inputs.c.data,
-        )
-        .select_from(
-            inspection_inputs.outerjoin(
-                raw_inputs, raw_inputs.c.sha256 == inspection_inputs.c.sha256
-            )
-        )
-        .where(inspection_inputs.c.inspection_id == record_id)
-        .order_by(inspection_inputs.c.role)
-    )
-    with engine.connect() as conn:
-        rows = conn.execute(query).all()
-        conn.rollback()
+    rows = _input_rows(engine, record_id, raw_inputs.c.data)
     out = []
     for role, name, digest, size, blob in rows:
         shown = f"record {record_id}: raw input {role!r}" + (f" ({name})" if name else "")
