@@ -46,7 +46,7 @@ def _plan(dists: tuple[ResolvedDistribution, ...]) -> SamplingPlan:
     labels = tuple(f"s{j}" for j in range(n))
     groups = tuple((j, j + 1) for j in range(n))
     devs = tuple(0.5 * (d.upper - d.lower) for d in dists)
-    return SamplingPlan(labels, groups, dists, devs, ("mm",) * n, None)
+    return SamplingPlan(labels, groups, dists, devs, ("mm",) * n)
 
 
 def _uniform_sum_cdf(x: float, lows: list[float], widths: list[float]) -> float:

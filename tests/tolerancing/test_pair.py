@@ -270,3 +270,44 @@ def test_deterministic_quantiles_of_a_symmetric_sum() -> None:
         "df_q99865_um",
     ]
     assert "dS_A_q99865_deg" in cols and "dS_B_std_deg" in cols
+
+
+def _without_inspection() -> object:
+    raw = example_text("cw11-conjugate")
+    head, _, _ = raw.partition("\n[inspection]")
+    return design_from_mapping(parse_toml(head, "test design"))
+
+
+def test_a_fixture_yield_without_inspection_bands_is_refused() -> None:
+    """Issue 28, bad input: no [inspection] bands, no fixture yield, unless left out."""
+    d = _without_inspection()
+    with pytest.raises(DesignError, match=r"\[inspection\].*--no-fixture-yield"):
+        pair_monte_carlo(d, 100, step_deg=2.0)
+    res = pair_monte_carlo(d, 100, step_deg=2.0, fixture_yield=False)
+    assert res.fixture_yield == {}
+    assert any("left out" in n for n in res.notes)
+    # leaving it out of a design that has the bands gives the same sampled figures
+    a = pair_monte_carlo(PAIR, 2000, step_deg=2.0, fixture_yield=False)
+    b = pair_monte_carlo(PAIR, 2000, step_deg=2.0)
+    assert a.interference_mm == b.interference_mm and a.fixture_yield == {}
+    assert set(b.fixture_yield) == {"A", "B"}
+
+
+def test_cli_fixture_yield_without_inspection(
+    tmp_path: object, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from pathlib import Path
+
+    from camtol.cli.app import main
+
+    path = Path(str(tmp_path)) / "pair.toml"
+    path.write_text(example_text("cw11-conjugate").partition("\n[inspection]")[0])
+    assert main(["montecarlo", str(path), "-n", "100", "--step", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "[inspection]" in err and "--no-fixture-yield" in err and "Traceback" not in err
+    args = ["montecarlo", str(path), "-n", "100", "--step", "2", "--no-fixture-yield"]
+    assert main(args) == 0
+    assert "fixture yield: left out" in capsys.readouterr().out
+    single = ["montecarlo", "--example", "cw06-translating", "-n", "10", "--no-fixture-yield"]
+    assert main(single) == 2
+    assert "applies to a conjugate pair" in capsys.readouterr().err

@@ -86,6 +86,7 @@ def pair_montecarlo(
     sobol: int | None,
     as_json: bool,
     curves: str | None,
+    fixture_yield: bool = True,
 ) -> int:
     """Tolerance a pair as a pair and render it (see the module docstring).
 
@@ -109,6 +110,8 @@ def pair_montecarlo(
         ``--json``.
     curves : str or None
         ``--curves`` CSV path.
+    fixture_yield : bool
+        False with ``--no-fixture-yield``.
 
     Returns
     -------
@@ -126,6 +129,7 @@ def pair_montecarlo(
         interference_max_mm=imax,
         backlash_max_mm=bmax,
         mode=mode,
+        fixture_yield=fixture_yield,
     )
     doc = res.to_dict()
     if sobol is not None:
@@ -181,7 +185,7 @@ def _lines(doc: dict[str, Any]) -> list[str]:
         for cam, y in doc["fixture_yield"].items():
             out.append(f"  fixture accepts cam {cam.upper()}: {_yield_text(y)}")
     else:
-        out.append("  fixture yield: no [inspection] table")
+        out.append("  fixture yield: left out (--no-fixture-yield)")
     if doc["pair_yield"] is not None:
         out.append(
             f"  pair yield (interference ≤ {doc['interference_max_um']:g} µm, backlash ≤"

@@ -183,6 +183,11 @@ def _plot(shown: Any, path: str) -> None:
     help="Conjugate pair: largest backlash of the pair yield [µm].",
 )
 @click.option(
+    "--no-fixture-yield",
+    is_flag=True,
+    help="Conjugate pair: leave out the fixture's yield (needs no [inspection] bands).",
+)
+@click.option(
     "--sobol",
     type=Number(low=64, high=100_000, integer=True),
     metavar="N",
@@ -224,6 +229,7 @@ def montecarlo(
     derivatives: bool,
     interference_max_um: float | None,
     backlash_max_um: float | None,
+    no_fixture_yield: bool,
     sobol: int | None,
     at_speed: bool,
     rpm: float | None,
@@ -274,11 +280,17 @@ def montecarlo(
                 step_deg=step_deg,
                 interference_max_um=interference_max_um,
                 backlash_max_um=backlash_max_um,
+                fixture_yield=not no_fixture_yield,
                 sobol=sobol,
                 as_json=as_json,
                 curves=curves,
             )
         refuse_single_cam_flags(interference_max_um, backlash_max_um, d.mechanism.kind)
+        if no_fixture_yield:
+            fail(
+                f"--no-fixture-yield applies to a conjugate pair; the design's follower is"
+                f" {d.mechanism.kind}"
+            )
         spec = parse_motion_spec(d.mechanism.output, spec_um, spec_deg)
         limits = band_option(d, band, spec)
         from camtol.tolerancing import monte_carlo

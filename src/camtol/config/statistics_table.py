@@ -117,26 +117,23 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
     sources: dict[str, SourceDistribution] = {}
     default = SourceDistribution()
     process = None
+    from camtol.pair.kinematics import is_pair
+
+    letters = [c.letter for c in design.cams()] if is_pair(design) else []
+    per_cam = {f"profile_process_{letter.lower()}": letter for letter in letters}
+    cam_processes: dict[str, ProfileProcess] = {}
     for key, value in raw.items():
         where = f"statistics.{key}"
         if key == "profile_process":
-            p = _validate(_ProcessSchema, value, where)
-            try:
-                process = ProfileProcess(
-                    target=p.target,
-                    sigma_um=p.sigma_um,
-                    correlation_deg=p.correlation_deg,
-                    harmonics=tuple((h.order, h.amplitude_um) for h in p.harmonics),
-                )
-            except ValueError as exc:
-                raise ConfigError(str(exc)) from None
-            own = {s.key for s in design.mechanism.sources}
-            if process.target not in own:
-                ok = ", ".join(k for k in "rn" if k in own)
-                raise ConfigError(
-                    f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
-                    f" has no such profile source; allowed: {ok}"
-                )
+            process = _process(value, where, design)
+        elif key in per_cam:
+            cam = design.cam(per_cam[key])
+            cam_processes[per_cam[key]] = _process(value, where, cam.design)
+        elif key.startswith("profile_process_") and not letters:
+            raise ConfigError(
+                f"{where}: a process per cam applies to a conjugate pair; this"
+                f" {design.mechanism.kind} design takes statistics.profile_process"
+            )
         elif key == "default":
             default = _source(value, where, "mm")
             if (
@@ -149,8 +146,32 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
         elif key in toleranced:
             sources[key] = _source(value, where, units[key])
         else:
-            allowed = ", ".join([*toleranced, "default", "profile_process"])
+            allowed = ", ".join([*toleranced, "default", "profile_process", *per_cam])
             raise ConfigError(
                 f"{where} is not a toleranced source of this design; allowed: {allowed}"
             )
-    return StatisticalModel(sources, default, process, table=tuple(raw.items()))
+    return StatisticalModel(
+        sources, default, process, cam_processes=cam_processes, table=tuple(raw.items())
+    )
+
+
+def _process(value: Any, where: str, design: CamDesign) -> ProfileProcess:
+    """Validate a ``profile_process`` table for a (single-contact) design."""
+    p = _validate(_ProcessSchema, value, where)
+    try:
+        process = ProfileProcess(
+            target=p.target,
+            sigma_um=p.sigma_um,
+            correlation_deg=p.correlation_deg,
+            harmonics=tuple((h.order, h.amplitude_um) for h in p.harmonics),
+        )
+    except ValueError as exc:  # its messages name statistics.profile_process
+        raise ConfigError(str(exc).replace("statistics.profile_process", where, 1)) from None
+    own = {s.key for s in design.mechanism.sources}
+    if process.target not in own:
+        ok = ", ".join(k for k in "rn" if k in own)
+        raise ConfigError(
+            f"{where}.target={process.target!r}: a {design.mechanism.kind} follower"
+            f" has no such profile source; allowed: {ok}"
+        )
+    return process

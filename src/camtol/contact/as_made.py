@@ -26,7 +26,7 @@ from camtol.exceptions import DesignError
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import Mechanism
 
-__all__ = ["follow_as_made"]
+__all__ = ["combined_error", "follow_as_made"]
 
 
 @dataclass(frozen=True)
@@ -42,8 +42,18 @@ class _Sum:
         return out
 
 
-def _one(errors: list[ProfileError]) -> ProfileError | None:
+def combined_error(errors: Sequence[ProfileError]) -> ProfileError | None:
+    """Return several profile errors of one direction as one (their sum), None if none.
+
+    Parameters
+    ----------
+    errors : sequence of ProfileError
+        Errors along the same direction (radial or normal). [mm]
+    """
     return None if not errors else errors[0] if len(errors) == 1 else _Sum(tuple(errors))
+
+
+_one = combined_error
 
 
 def follow_as_made(

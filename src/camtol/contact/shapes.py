@@ -205,22 +205,35 @@ class AnalyticShape:
         ndarray
             Profile parameter t of each vertex. [rad]
         """
-        poly = self.polygon
-        # The polygon may have been reversed on input; map back through the coordinates.
-        return self._vertex_param_map[np.asarray(feature) % poly.size]
+        return self.sample_param_rad[self._vertex_grid_index(feature)]
+
+    def _vertex_grid_index(self, feature: IntArray) -> IntArray:
+        """Index into :attr:`sample_param_rad` of a vertex of :attr:`polygon`."""
+        return self._vertex_grid_map[np.asarray(feature) % self.polygon.size]
 
     @cached_property
-    def _vertex_param_map(self) -> FloatArray:
+    def _vertex_grid_map(self) -> IntArray:
         poly = self.polygon
         px, py = self._grid_jets
         if poly.size == self.samples and np.allclose(poly.vertices_mm[0], [px.v[0], py.v[0]]):
-            return self.sample_param_rad
-        # Reversed (clockwise input) or de-duplicated: match coordinates.
+            return np.arange(self.samples, dtype=np.intp)
+        # The polygon may have been reversed on input (clockwise) or de-duplicated: map
+        # back through the coordinates.
         from scipy.spatial import cKDTree
 
         tree = cKDTree(np.stack([px.v, py.v], axis=1))
         _, j = tree.query(poly.vertices_mm)
-        return np.asarray(self.sample_param_rad[j], dtype=float)
+        return np.asarray(j, dtype=np.intp)
+
+    def _grid_jets_at(self, index: IntArray) -> tuple[Jet, Jet]:
+        """:attr:`_grid_jets` at grid indices: P(t) at those vertices, computed once."""
+        out = []
+        for g in self._grid_jets:
+            parts = [
+                np.broadcast_to(a, self.sample_param_rad.shape)[index] for a in (g.v, g.d1, g.d2)
+            ]
+            out.append(Jet(parts[0], parts[1], parts[2]))
+        return out[0], out[1]
 
     @property
     def boundaries_rad(self) -> FloatArray:
@@ -270,22 +283,57 @@ class AnalyticShape:
         """
         psi = np.atleast_1d(np.asarray(psi_rad, dtype=float))
         poly_sup = self.polygon.support(psi)
-        t = self.vertex_param(poly_sup.feature)
+        seed = self._vertex_grid_index(poly_sup.feature)
+        t = self.sample_param_rad[seed]
         nx, ny = np.cos(psi), np.sin(psi)
         step = 2.0 * TWO_PI / self.samples
-        for _ in range(60):
-            px, py = self.jets(t)
+        for k in range(60):
+            # The seeds are polygon vertices, where P is known already (the polygon).
+            px, py = self._grid_jets_at(seed) if k == 0 else self.jets(t)
             f = px.d1 * nx + py.d1 * ny
             fp = px.d2 * nx + py.d2 * ny
             with np.errstate(divide="ignore", invalid="ignore"):
                 dt = np.where(fp < 0, -f / fp, np.sign(f) * step)
             dt = np.clip(dt, -step, step)
-            t = t + dt
             if np.max(np.abs(dt)) < 1e-13:
+                # Converged at t itself (the next step is below 1e-13 rad): its jets are
+                # the support point's, so point_support need not evaluate them again.
                 break
+            t = t + dt
         else:
             raise GeometryError("support point of the analytic profile did not converge")
-        return self.point_support(psi, t, left_limit=left_limit, check_h=poly_sup.h_mm)
+        return self.point_support(
+            psi, t, left_limit=left_limit, check_h=poly_sup.h_mm, jets_at_t=(px, py)
+        )
+
+    def _jets_reusing(
+        self,
+        t_given: FloatArray,
+        t_snapped: FloatArray,
+        jets_given: tuple[Jet, Jet],
+        left_limit: ArrayLike | None,
+    ) -> tuple[Jet, Jet]:
+        """P at ``t_snapped`` from jets at ``t_given``, re-evaluating only where they differ.
+
+        Rows that snapping moved onto a boundary, or that lie on a program boundary
+        (where the left or right limit is chosen), are evaluated afresh; the others are
+        the given jets (P is 2π-periodic, so a row that was only wrapped keeps them).
+        """
+        b = np.append(self.boundaries_rad, 0.0)
+        redo = (t_snapped != np.mod(t_given, TWO_PI)) | np.isin(t_snapped, b)
+        if not np.any(redo):
+            return jets_given
+        ll = None if left_limit is None else np.broadcast_to(left_limit, t_given.shape)[redo]
+        fx, fy = self.jets(t_snapped[redo], left_limit=ll)
+        out = []
+        for given, fresh in ((jets_given[0], fx), (jets_given[1], fy)):
+            parts = []
+            for a, c in ((given.v, fresh.v), (given.d1, fresh.d1), (given.d2, fresh.d2)):
+                m = np.array(np.broadcast_to(a, t_given.shape), dtype=float)
+                m[redo] = c
+                parts.append(m)
+            out.append(Jet(parts[0], parts[1], parts[2]))
+        return out[0], out[1]
 
     def point_support(
         self,
@@ -294,6 +342,7 @@ class AnalyticShape:
         *,
         left_limit: ArrayLike | None = None,
         check_h: FloatArray | None = None,
+        jets_at_t: tuple[Jet, Jet] | None = None,
     ) -> Support:
         """Support record of the profile point P(t) seen in direction ψ.
 
@@ -309,6 +358,10 @@ class AnalyticShape:
         check_h : ndarray, optional
             Lower bound on h (e.g. the sampled polygon's); raise if h falls below it.
             [mm]
+        jets_at_t : (Jet, Jet), optional
+            P(t) already evaluated at the given ``t`` (before snapping), e.g. by Newton's
+            last iterate: reused wherever snapping leaves t unchanged and t is not a
+            program boundary (where ``left_limit`` matters). [mm, mm/rad, mm/rad²]
 
         Returns
         -------
@@ -320,8 +373,12 @@ class AnalyticShape:
         GeometryError
             If h is less than ``check_h`` (the point is not the global support point).
         """
-        t = self.snap(t)
-        px, py = self.jets(t, left_limit=left_limit)
+        t_in = np.asarray(t, dtype=float)
+        t = self.snap(t_in)
+        if jets_at_t is None:
+            px, py = self.jets(t, left_limit=left_limit)
+        else:
+            px, py = self._jets_reusing(t_in, t, jets_at_t, left_limit)
         nx, ny = np.cos(psi), np.sin(psi)
         h = px.v * nx + py.v * ny
         if check_h is not None:

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from camtol.contact import AnalyticShape, FourierError
-from camtol.contact.as_made import follow_as_made
+from camtol.contact.as_made import combined_error, follow_as_made
 from camtol.contact.errors_profile import CallableError, ProfileError
 from camtol.design.cam_design import CamDesign
 from camtol.design.sources import AsMade, apply_source
@@ -35,7 +35,7 @@ from camtol.pair.fixture_spec import FixtureErrors, FixtureSpec
 from camtol.pair.kinematics import require_pair
 from camtol.pair.sources import PairSource
 
-__all__ = ["PairMotion", "fixture_reading_as_made_um", "follow_pair_as_made"]
+__all__ = ["CamProfileErrors", "PairMotion", "fixture_reading_as_made_um", "follow_pair_as_made"]
 
 #: The pair's sources that are the fixture's follower dimensions (FixtureErrors fields).
 _FOLLOWER = {
@@ -45,6 +45,24 @@ _FOLLOWER = {
     "rf_d": "drr_d_mm",
     "eta": "deta_rad",
 }
+
+
+@dataclass(frozen=True)
+class CamProfileErrors:
+    """Further profile errors of one cam as made, beyond its constant ones.
+
+    Attributes
+    ----------
+    radial, normal : tuple of ProfileError
+        Errors along O2A and along the profile normal (e.g. a sampled random profile
+        process, :class:`camtol.tolerancing.processes.ContactAngleError`). [mm]
+    """
+
+    radial: tuple[ProfileError, ...] = ()
+    normal: tuple[ProfileError, ...] = ()
+
+
+_NONE = CamProfileErrors()
 
 
 @dataclass(frozen=True)
@@ -63,11 +81,15 @@ class PairMotion:
     df_mm: FloatArray
 
 
-def _shape(cam: CamDesign, as_made: AsMade) -> AnalyticShape:
-    """Return the cam's profile as made (its constant radial and normal errors)."""
-    radial = None if as_made.radial_error_mm is None else FourierError(as_made.radial_error_mm)
-    normal = None if as_made.normal_error_mm is None else FourierError(as_made.normal_error_mm)
-    return AnalyticShape(cam.mechanism, cam.program, radial, normal)
+def _shape(cam: CamDesign, as_made: AsMade, further: CamProfileErrors = _NONE) -> AnalyticShape:
+    """Return the cam's profile as made (its constant and further profile errors)."""
+    radial: list[ProfileError] = list(further.radial)
+    normal: list[ProfileError] = list(further.normal)
+    if as_made.radial_error_mm is not None:
+        radial.insert(0, FourierError(as_made.radial_error_mm))
+    if as_made.normal_error_mm is not None:
+        normal.insert(0, FourierError(as_made.normal_error_mm))
+    return AnalyticShape(cam.mechanism, cam.program, combined_error(radial), combined_error(normal))
 
 
 def _in_mm(master: ErrorFunction) -> Callable[[FloatArray], FloatArray]:
@@ -100,6 +122,7 @@ def follow_pair_as_made(
     theta_rad: ArrayLike,
     *,
     left_limit: ArrayLike | None = None,
+    profile_errors: Mapping[str, CamProfileErrors] | None = None,
 ) -> PairMotion:
     """Follow both cams of a pair as made, and the assembled pair in the fixture.
 
@@ -115,6 +138,8 @@ def follow_pair_as_made(
         Shaft angles. [rad]
     left_limit : array_like of bool, optional
         Rows taking left limits at segment boundaries.
+    profile_errors : mapping of str to CamProfileErrors, optional
+        By cam letter: further profile errors of that cam (a sampled profile process).
 
     Returns
     -------
@@ -126,11 +151,21 @@ def follow_pair_as_made(
     states = _cams_as_made(design, sources, values)
     motion = {}
     shapes = {}
+    further = profile_errors or {}
     for cam in design.cams():
         state = states[cam.letter]
-        res = follow_as_made(state, cam.mechanism, design.program, theta, left_limit=left_limit)
+        extra = further.get(cam.letter, _NONE)
+        res = follow_as_made(
+            state,
+            cam.mechanism,
+            design.program,
+            theta,
+            left_limit=left_limit,
+            radial_errors=extra.radial,
+            normal_errors=extra.normal,
+        )
         motion[cam.letter] = np.asarray(res.lift - nominal)
-        shapes[cam.letter] = _shape(cam.design, state)
+        shapes[cam.letter] = _shape(cam.design, state, extra)
     errors = FixtureErrors(**{f: values.get(k, 0.0) for k, f in _FOLLOWER.items()})
     phase = states[design.cams()[0].letter].phase_rad  # one shaft: both cams late alike
     a, b = (shapes[c.letter] for c in design.cams())
@@ -151,6 +186,8 @@ def fixture_reading_as_made_um(
     values: Mapping[str, float],
     spec: FixtureSpec,
     theta_rad: ArrayLike,
+    *,
+    profile_errors: Mapping[str, CamProfileErrors] | None = None,
 ) -> dict[str, FloatArray]:
     """Return what the fixture reads on each cam as made against the other cam's master.
 
@@ -170,6 +207,8 @@ def fixture_reading_as_made_um(
         The masters' known errors and the fixture's constant errors.
     theta_rad : array_like
         Cam angles. [rad]
+    profile_errors : mapping of str to CamProfileErrors, optional
+        By cam letter: further profile errors of that cam (a sampled profile process).
 
     Returns
     -------
@@ -186,7 +225,8 @@ def fixture_reading_as_made_um(
         shapes = []
         for cam in cams:
             if cam.letter == inspected.letter:
-                shapes.append(_shape(cam.design, states[cam.letter]))
+                extra = (profile_errors or {}).get(cam.letter, _NONE)
+                shapes.append(_shape(cam.design, states[cam.letter], extra))
             else:
                 err: ProfileError = CallableError(_in_mm(masters[cam.letter]))
                 shapes.append(AnalyticShape(cam.mechanism, design.program, radial_error=err))

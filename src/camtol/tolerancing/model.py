@@ -11,6 +11,10 @@ A design file may carry an optional ``[statistics]`` table (docs/tolerancing.md)
     sigma_um = 2.0
     correlation_deg = 10.0  # or: harmonics = [{ order = 2, amplitude_um = 1.5 }]
 
+A conjugate pair may give each cam its own process (``[statistics.profile_process_a]``,
+``[statistics.profile_process_b]``, same fields); ``profile_process`` on a pair means the
+same process on both cams, sampled independently.
+
 The table is validated when the design file is loaded
 (:mod:`camtol.config.statistics_table`, the file-format edge) and kept on the design as a
 :class:`StatisticalModel` (``CamDesign.extras["statistics"]``) that also remembers the
@@ -44,7 +48,11 @@ class StatisticalModel:
     default : SourceDistribution
         Distribution of every source not in ``sources`` (normal, Cp = 1, truncated).
     process : ProfileProcess, optional
-        Random periodic profile error added to the sampled sources.
+        Random periodic profile error added to the sampled sources. On a conjugate
+        pair: the same process on both cams, sampled independently for each.
+    cam_processes : mapping of str to ProfileProcess
+        A conjugate pair's process per cam, by cam letter (``profile_process_a``,
+        ``profile_process_b``); a cam listed here does not take ``process``.
     table : tuple of (str, object)
         The design file's ``[statistics]`` table it was read from, for the design's
         identity; empty when built in Python.
@@ -53,6 +61,7 @@ class StatisticalModel:
     sources: Mapping[str, SourceDistribution] = field(default_factory=dict)
     default: SourceDistribution = SourceDistribution()
     process: ProfileProcess | None = None
+    cam_processes: Mapping[str, ProfileProcess] = field(default_factory=dict)
     table: tuple[tuple[str, Any], ...] = field(default=(), compare=False, repr=False)
 
     def to_mapping(self) -> dict[str, Any]:
@@ -65,6 +74,16 @@ class StatisticalModel:
             (:attr:`camtol.design.cam_design.CamDesign.content_hash`).
         """
         return dict(self.table)
+
+    def process_of(self, letter: str) -> ProfileProcess | None:
+        """Return the profile process of one cam of a pair (its own, else the common one).
+
+        Parameters
+        ----------
+        letter : str
+            The cam's letter.
+        """
+        return self.cam_processes.get(letter, self.process)
 
     def distribution(self, key: str) -> SourceDistribution:
         """Return the distribution of a source.

@@ -35,8 +35,10 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -47,6 +49,7 @@ from camtol.design.cam_design import CamDesign, ResolvedTolerance
 from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 from camtol.pair.acceptance import AcceptanceBands, acceptance_bands
+from camtol.pair.as_made import CamProfileErrors
 from camtol.pair.fixture_spec import FixtureSpec, fixture_spec
 from camtol.pair.sources import PairSource, pair_sources
 from camtol.pair.variation import (
@@ -62,6 +65,7 @@ from camtol.tolerancing.pair_results import (
     moments,
 )
 from camtol.tolerancing.plan import CHUNK, SamplingPlan, chunk_uniforms
+from camtol.tolerancing.processes import ContactAngleError, ProfileProcess, contact_polar_angle
 from camtol.tolerancing.results import YieldEstimate
 
 __all__ = [
@@ -116,6 +120,9 @@ class PairStudy:
         of each source (angles, columns), both from
         :func:`camtol.pair.variation.fixture_reading_um` (linear in Δr), at the grid
         angles that decide every verdict (the third array; :func:`_deciding_angles`). [µm]
+    cam_processes : tuple of (str, ProfileProcess)
+        The random profile processes by cam letter, in the order of the plan's process
+        column groups.
     """
 
     design: CamDesign
@@ -132,6 +139,7 @@ class PairStudy:
     readings: dict[str, tuple[FloatArray, FloatArray, NDArray[np.intp]]] = field(
         default_factory=dict
     )
+    cam_processes: tuple[tuple[str, ProfileProcess], ...] = ()
 
     @property
     def letters(self) -> tuple[str, ...]:
@@ -160,8 +168,8 @@ def prepare_pair(
     Raises
     ------
     DesignError
-        Not a conjugate design, no toleranced source, a profile process (not yet
-        sampled per cam of a pair), or a tolerance that cannot be resolved.
+        Not a conjugate design, no toleranced source, or a tolerance that cannot be
+        resolved.
     """
     from camtol.analysis.validity import check_design_geometry
 
@@ -170,32 +178,41 @@ def prepare_pair(
     if not sources:
         raise DesignError(f"design {design.name!r} has no [tolerances]: nothing to sample")
     model = statistical_model(design) if model is None else model
-    if model.process is not None:
-        raise DesignError(
-            "statistics.profile_process: a random profile process is sampled for single"
-            " cams only; give the pair's profile tolerances (r_a, r_b) instead"
-        )
     theta, left = analysis_grid(step_deg, design.program.boundaries_rad)
+    processes = [
+        (cam.letter, p) for cam in design.cams() if (p := model.process_of(cam.letter)) is not None
+    ]
+    labels = [s.key for s in sources]
+    groups = [(j, j + 1) for j in range(len(sources))]
+    for letter, p in processes:
+        labels.append(f"{p.target}_{letter.lower()}_process")
+        groups.append(
+            (groups[-1][1] if groups else 0, (groups[-1][1] if groups else 0) + p.columns)
+        )
     plan = SamplingPlan(
-        labels=tuple(s.key for s in sources),
-        groups=tuple((j, j + 1) for j in range(len(sources))),
+        labels=tuple(labels),
+        groups=tuple(groups),
         distributions=tuple(
             model.distribution(s.design_key).resolve(s.tolerance.deviation, s.tolerance.unit)
             for s in sources
         ),
-        deviations=tuple(abs(s.tolerance.deviation) for s in sources),
-        units=tuple(s.tolerance.unit for s in sources),
-        process=None,
+        deviations=tuple(abs(s.tolerance.deviation) for s in sources)
+        + tuple(p.deviation_mm() for _, p in processes),
+        units=tuple(s.tolerance.unit for s in sources) + ("mm",) * len(processes),
+        processes=tuple(p for _, p in processes),
     )
     factors = conjugate_factors(design, theta)
-    cols = len(sources)
+    cols = plan.columns
     motion: dict[str, FloatArray] = {}
     radial: dict[str, FloatArray] = {}
+    tols_of: dict[str, Any] = {}
     for cam in design.cams():
         own = {key for s in sources for letter, key in s.cams if letter == cam.letter}
+        own |= {p.target for letter, p in processes if letter == cam.letter}
         unit = {s.key: s.unit for s in cam.design.sources}
         tols = tuple(ResolvedTolerance(k, 1.0, unit[k], "unit") for k in sorted(own))
         err = error_analysis(cam.design, tols, theta, left_limit=left)
+        tols_of[cam.letter] = err
         g = np.zeros((theta.size, cols))
         r = np.zeros((theta.size, cols))
         cos_shift = np.cos(factors.shift_rad(cam.letter))
@@ -216,6 +233,21 @@ def prepare_pair(
     for j, s in enumerate(sources):
         if s.key in per_key:
             df[:, j] = per_key[s.key]
+    for (letter, p), (a, b) in zip(processes, plan.process_groups, strict=True):
+        # A profile process of one cam: at angle θ the follower, the fixture and Δf feel
+        # the error at the contact point's polar angle ψ(θ) (camtol.tolerancing.processes),
+        # with the sensitivities of a constant error of that cam's profile there.
+        cam = design.cam(letter)
+        psi = contact_polar_angle(cam.mechanism, design.program, theta, left_limit=left)
+        harmonics = np.hstack(
+            [np.cos(np.outer(psi.v, p.orders)), np.sin(np.outer(psi.v, p.orders))]
+        )
+        key = f"{p.target}_{letter.lower()}"
+        per_unit = tols_of[letter].sources[p.target].delta_lift
+        motion[letter][:, a:b] = per_unit[:, None] * harmonics
+        profile_gain = 1.0 if p.target == "r" else 1.0 / np.cos(factors.shift_rad(letter))
+        radial[letter][:, a:b] = np.asarray(profile_gain)[..., None] * harmonics
+        df[:, a:b] = per_key[key][:, None] * harmonics
     centre = next((j for j, s in enumerate(sources) if s.key == "f"), None)
     spec = fixture_spec(design)
     bands = None
@@ -236,7 +268,19 @@ def prepare_pair(
             at = _deciding_angles(per_unit.T, nominal, bands.band_um(letter))
             readings[letter] = (nominal[at], np.ascontiguousarray(per_unit.T[at]), at)
     return PairStudy(
-        design, theta, sources, plan, motion, df, radial, centre, spec, factors, bands, readings
+        design,
+        theta,
+        sources,
+        plan,
+        motion,
+        df,
+        radial,
+        centre,
+        spec,
+        factors,
+        bands,
+        readings,
+        tuple(processes),
     )
 
 
@@ -251,6 +295,7 @@ def pair_monte_carlo(
     backlash_max_mm: float | None = None,
     mode: str = "linear",
     quantiles: bool = True,
+    fixture_yield: bool = True,
 ) -> PairMonteCarloResult:
     """Tolerance a conjugate pair as a pair, in the linear model (module docstring).
 
@@ -276,6 +321,10 @@ def pair_monte_carlo(
     quantiles : bool
         Compute the per-angle quantiles (the convolution); an allocation's candidates
         need only the sampled figures and leave them out (NaN).
+    fixture_yield : bool
+        Judge every sampled cam as the fixture would (THEORY §4.3). It needs the
+        fixture's bands (``[inspection]``): without them the study is refused rather
+        than reported without a fixture yield; False leaves the fixture out.
 
     Returns
     -------
@@ -284,7 +333,8 @@ def pair_monte_carlo(
     Raises
     ------
     DesignError
-        Bad samples, seed or limits, or a design that cannot be sampled as a pair.
+        Bad samples, seed or limits, a fixture yield asked of a design without
+        ``[inspection]`` bands, or a design that cannot be sampled as a pair.
     """
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 1:
         raise DesignError(f"samples={samples!r} is not allowed; give a whole number ≥ 1")
@@ -309,6 +359,14 @@ def pair_monte_carlo(
         if value is not None and not (math.isfinite(value) and value >= 0):
             raise DesignError(f"the largest {name} {value!r} is not allowed; it must be ≥ 0")
     study = prepare_pair(design, model=model, step_deg=step_deg)
+    if fixture_yield and study.bands is None:
+        raise DesignError(
+            f"[inspection]: design {design.name!r} has no fixture bands (tolerance_a_um,"
+            " tolerance_b_um), so the fixture's yield cannot be judged; add the table, or"
+            " leave the fixture out (--no-fixture-yield)"
+        )
+    if not fixture_yield:
+        study = dataclasses.replace(study, bands=None, readings={})
     letters = study.letters
     n = int(samples)
     max_abs = {letter: np.empty(n) for letter in letters}
@@ -332,9 +390,9 @@ def pair_monte_carlo(
             key=lambda kv: -kv[1],
         )
     )
-    fixture_yield = {}
+    fixture_yields = {}
     if study.bands is not None:
-        fixture_yield = {k: YieldEstimate.of(int(v.sum()), n) for k, v in accepted.items()}
+        fixture_yields = {k: YieldEstimate.of(int(v.sum()), n) for k, v in accepted.items()}
     pair_yield = None
     if interference_max_mm is not None and backlash_max_mm is not None:
         ok = (interference <= interference_max_mm) & (backlash <= backlash_max_mm)
@@ -350,10 +408,18 @@ def pair_monte_carlo(
         else "exact mode: each sampled pair followed as made (THEORY §5); the per-angle"
         " figures are the linear model's",
     ]
+    common = (statistical_model(design) if model is None else model).process
+    shared = [letter for letter, p in study.cam_processes if p is common]
+    if common is not None and shared:
+        notes.append(
+            "statistics.profile_process on a pair: the same process on cam "
+            + " and cam ".join(shared)
+            + ", sampled independently for each"
+        )
     if n < 1000:
         notes.append(f"only {n} samples: the sampled quantiles and yields are rough")
     if study.bands is None:
-        notes.append("no [inspection] table: no fixture yield")
+        notes.append("fixture yield left out (--no-fixture-yield)")
     return PairMonteCarloResult(
         design_name=design.name,
         samples=n,
@@ -366,7 +432,7 @@ def pair_monte_carlo(
         max_abs_motion={k: SampledSummary.of(v) for k, v in max_abs.items()},
         interference_mm=SampledSummary.of(interference),
         backlash_mm=SampledSummary.of(backlash),
-        fixture_yield=fixture_yield,
+        fixture_yield=fixture_yields,
         pair_yield=pair_yield,
         interference_max_mm=interference_max_mm,
         backlash_max_mm=backlash_max_mm,
@@ -375,6 +441,10 @@ def pair_monte_carlo(
         sources=study.sources,
         plan=plan,
         notes=tuple(notes),
+        process_cams=tuple(
+            (letter, "profile_process" if p is common else f"profile_process_{letter.lower()}")
+            for letter, p in study.cam_processes
+        ),
     )
 
 
@@ -418,9 +488,14 @@ def _exact_rows(
     from camtol.pair.as_made import fixture_reading_as_made_um, follow_pair_as_made
 
     start = rows.start
+    plan = study.plan
+    constant = len(plan.distributions)
     for i, row in enumerate(x):
-        values = dict(zip(study.plan.labels, row.tolist(), strict=True))
-        out = follow_pair_as_made(study.design, study.sources, values, study.theta_rad)
+        values = dict(zip(plan.labels[:constant], row[:constant].tolist(), strict=True))
+        errors = _process_errors(study, row)
+        out = follow_pair_as_made(
+            study.design, study.sources, values, study.theta_rad, profile_errors=errors
+        )
         for letter, ds in out.motion.items():
             max_abs[letter][start + i] = float(np.abs(ds).max())
         df = out.df_mm - (0.0 if study.centre_column is None else row[study.centre_column])
@@ -429,10 +504,26 @@ def _exact_rows(
         if study.bands is None or study.spec is None:
             continue
         readings = fixture_reading_as_made_um(
-            study.design, study.sources, values, study.spec, study.theta_rad
+            study.design, study.sources, values, study.spec, study.theta_rad, profile_errors=errors
         )
         for letter, reading in readings.items():
             accepted[letter][start + i] = study.bands.margin_um(letter, reading).min() >= 0.0
+
+
+def _process_errors(study: PairStudy, row: FloatArray) -> dict[str, CamProfileErrors]:
+    """One sample's profile processes as each cam's further profile errors (exact mode)."""
+    out: dict[str, CamProfileErrors] = {}
+    plan = study.plan
+    for (letter, p), (a, b) in zip(study.cam_processes, plan.process_groups, strict=True):
+        k = p.orders.size
+        cam = study.design.cam(letter)
+        error = ContactAngleError(
+            cam.mechanism, study.design.program, p.orders, row[a : a + k], row[a + k : b]
+        )
+        out[letter] = CamProfileErrors(
+            radial=(error,) if p.target == "r" else (), normal=(error,) if p.target == "n" else ()
+        )
+    return out
 
 
 def _deciding_angles(

@@ -169,6 +169,7 @@ def allocate_pair(
             interference_max_mm=interference_max_mm,
             backlash_max_mm=backlash_max_mm,
             quantiles=False,
+            fixture_yield=False,  # the criterion is interference and backlash only
         )
 
     for _ in range(len(free) * len(order)):

@@ -152,9 +152,12 @@ class PairMonteCarloResult:
     sources : tuple of PairSource
         The sampled sources.
     plan : SamplingPlan
-        Their distributions.
+        Their distributions (and the profile processes, last).
     notes : tuple of str
         What is deterministic and what sampled.
+    process_cams : tuple of (str, str)
+        For each of ``plan.processes``: its cam's letter and the ``[statistics]`` table it
+        comes from (``profile_process_a``, or ``profile_process`` for both cams).
     """
 
     design_name: str
@@ -175,6 +178,7 @@ class PairMonteCarloResult:
     sources: tuple[PairSource, ...]
     plan: SamplingPlan
     notes: tuple[str, ...] = field(default=())
+    process_cams: tuple[tuple[str, str], ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """Return the pair's part of ``camtol montecarlo --json`` (internal units named).
@@ -225,6 +229,27 @@ class PairMonteCarloResult:
                     "limits": list(d.support()) if d.bounded else None,
                 }
                 for s, d in zip(self.sources, self.plan.distributions, strict=True)
+            ]
+            + [
+                {
+                    "key": label,
+                    "tolerance_key": table,
+                    "cams": [letter],
+                    "unit": "mm",
+                    "deviation": p.deviation_mm(),
+                    "distribution": "gaussian_process" if p.gaussian else "harmonics",
+                    "mean": 0.0,
+                    # the process's σ at any point: Σ over orders of Var a_k (= Var b_k)
+                    "sigma": math.sqrt(float(p.coefficient_variance_mm2().sum())),
+                    "limits": None if p.gaussian else [-p.deviation_mm(), p.deviation_mm()],
+                    "target": p.target,
+                }
+                for label, (letter, table), p in zip(
+                    self.plan.labels[len(self.sources) :],
+                    self.process_cams,
+                    self.plan.processes,
+                    strict=True,
+                )
             ],
             "notes": list(self.notes),
         }

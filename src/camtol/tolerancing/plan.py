@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from camtol.analysis.errors import error_analysis
 from camtol.design.cam_design import CamDesign, ResolvedTolerance
+from camtol.exceptions import DesignError
 from camtol.jet import FloatArray
 from camtol.tolerancing.distributions import ResolvedDistribution
 from camtol.tolerancing.model import StatisticalModel
@@ -70,8 +71,9 @@ class SamplingPlan:
         Resolved tolerance Δ of each label (3σ or Σ amplitudes for a process). [mm, rad]
     units : tuple of str
         Internal unit of each label's deviation.
-    process : ProfileProcess or None
-        The profile process (its columns come last).
+    processes : tuple of ProfileProcess
+        The profile processes, their column groups last and in this order: a single
+        cam's one process, or one per cam of a conjugate pair.
     """
 
     labels: tuple[str, ...]
@@ -79,7 +81,25 @@ class SamplingPlan:
     distributions: tuple[ResolvedDistribution, ...]
     deviations: tuple[float, ...]
     units: tuple[str, ...]
-    process: ProfileProcess | None
+    processes: tuple[ProfileProcess, ...] = ()
+
+    @property
+    def process(self) -> ProfileProcess | None:
+        """A single cam's profile process (its columns come last), or None.
+
+        Raises
+        ------
+        DesignError
+            The plan has several processes (a pair's): use :attr:`processes`.
+        """
+        if len(self.processes) > 1:
+            raise DesignError("this plan has one profile process per cam: use .processes")
+        return self.processes[0] if self.processes else None
+
+    @property
+    def process_groups(self) -> tuple[tuple[int, int], ...]:
+        """Column range [start, stop) of each process, in :attr:`processes` order."""
+        return self.groups[len(self.groups) - len(self.processes) :]
 
     @property
     def columns(self) -> int:
@@ -89,7 +109,7 @@ class SamplingPlan:
     @property
     def uniforms(self) -> int:
         """Uniform variates per sample."""
-        return len(self.distributions) + (self.process.uniforms if self.process else 0)
+        return len(self.distributions) + sum(p.uniforms for p in self.processes)
 
     def sample(self, u: FloatArray) -> FloatArray:
         """Sample rows from uniforms. [mm or rad]
@@ -102,22 +122,24 @@ class SamplingPlan:
         nd = len(self.distributions)
         cols = [d.ppf(u[:, j]) for j, d in enumerate(self.distributions)]
         x = np.column_stack(cols) if cols else np.empty((u.shape[0], 0))
-        if self.process is not None:
-            x = np.hstack([x, self.process.sample(u[:, nd:])])
+        start = nd
+        for p in self.processes:  # each process draws from its own uniforms, in order
+            x = np.hstack([x, p.sample(u[:, start : start + p.uniforms])])
+            start += p.uniforms
         return np.ascontiguousarray(x)
 
     def column_mean(self) -> FloatArray:
         """Mean of every column. [mm or rad]"""
         m = [d.mean() for d in self.distributions]
-        if self.process is not None:
-            m += [0.0] * self.process.columns
+        for p in self.processes:
+            m += [0.0] * p.columns
         return np.asarray(m, dtype=float)
 
     def column_variance(self) -> FloatArray:
         """Variance of every column. [mm² or rad²]"""
         v = [d.variance() for d in self.distributions]
-        if self.process is not None:
-            pv = self.process.coefficient_variance_mm2()
+        for p in self.processes:
+            pv = p.coefficient_variance_mm2()
             v += [*pv, *pv]
         return np.asarray(v, dtype=float)
 
@@ -126,11 +148,11 @@ class SamplingPlan:
         lo = [d.support()[0] for d in self.distributions]
         hi = [d.support()[1] for d in self.distributions]
         bd = [d.bounded for d in self.distributions]
-        if self.process is not None:
-            b = self.process.coefficient_bounds_mm()
+        for p in self.processes:
+            b = p.coefficient_bounds_mm()
             lo += [*(-b), *(-b)]
             hi += [*b, *b]
-            bd += [not self.process.gaussian] * self.process.columns
+            bd += [not p.gaussian] * p.columns
         return np.asarray(lo), np.asarray(hi), np.asarray(bd, dtype=bool)
 
 
@@ -161,15 +183,13 @@ def make_plan(
         units.append(t.unit)
     p = model.process
     if p is not None:
-        start = len(dists)
         labels.append(f"{p.target}_process")
-        groups.append((start, start + p.columns))
-        if p.gaussian:
-            devs.append(3.0 * float(p.sigma_um or 0.0) * 1e-3)
-        else:
-            devs.append(float(np.sum(p.coefficient_bounds_mm())))
+        groups.append((len(dists), len(dists) + p.columns))
+        devs.append(p.deviation_mm())
         units.append("mm")
-    return SamplingPlan(tuple(labels), tuple(groups), tuple(dists), tuple(devs), tuple(units), p)
+    return SamplingPlan(
+        tuple(labels), tuple(groups), tuple(dists), tuple(devs), tuple(units), (p,) if p else ()
+    )
 
 
 def sensitivity_matrices(

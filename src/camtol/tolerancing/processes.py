@@ -136,6 +136,12 @@ class ProfileProcess:
         """True for the stationary Gaussian process (unbounded coefficients)."""
         return not self.harmonics
 
+    def deviation_mm(self) -> float:
+        """Return the size of the process as a deviation: 3σ, or its amplitudes summed. [mm]"""
+        if self.gaussian:
+            return 3.0 * float(self.sigma_um or 0.0) * 1e-3
+        return float(np.sum(self.coefficient_bounds_mm()))
+
     def coefficient_variance_mm2(self) -> FloatArray:
         """Variance of each a_k (= of b_k). [mm²]"""
         if self.harmonics:

@@ -141,8 +141,11 @@ def sobol_indices(
         raise DesignError(
             f"Sobol indices need at least {MIN_SOBOL_SAMPLES} samples; {samples} were asked"
         )
-    if plan.process is not None:
-        raise DesignError("Sobol indices are computed for constant sources only")
+    if plan.processes:
+        raise DesignError(
+            "Sobol indices are computed for constant sources only; leave out"
+            " [statistics] profile_process for --sobol"
+        )
     k = plan.columns
     # A and B: the study's chunk streams 2^20 and 2^20 + 1, apart from Monte Carlo's own
     a = plan.sample(chunk_uniforms(seed, 2**20, samples, plan.uniforms))
