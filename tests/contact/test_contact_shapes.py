@@ -266,3 +266,28 @@ def test_polygon_keeps_its_own_copy_of_the_vertices() -> None:
     assert poly.vertices_mm[0].tolist() == [0.0, 0.0]
     with pytest.raises(InputFileError, match="at least 3"):
         PolygonShape(np.zeros((0, 2)))
+
+
+@pytest.mark.parametrize("name", ["cw06-translating", "cw06-oscillating", "roller-translating"])
+def test_snap_finds_the_nearest_boundary_by_search(name: str) -> None:
+    """snap() searches the sorted boundaries; the same as comparing t with every one."""
+    from camtol.config import load_example
+    from camtol.contact.shapes import TWO_PI
+
+    d = load_example(name)
+    shape = AnalyticShape(d.mechanism, d.program)
+    b = shape.boundaries_rad
+    rng = np.random.default_rng(1)
+    t = np.concatenate(
+        [
+            rng.uniform(-1.0, 7.0, 5000),
+            b + rng.uniform(-2e-9, 2e-9, b.size),
+            b,
+            [0.0, TWO_PI, -1e-10, TWO_PI - 1e-10, 5e-10],
+        ]
+    )
+    wrapped = np.mod(t, TWO_PI)
+    every = np.append(b, TWO_PI)
+    j = np.argmin(np.abs(wrapped[:, None] - every[None, :]), axis=1)
+    near = np.abs(wrapped - every[j]) < 1e-9
+    np.testing.assert_array_equal(shape.snap(t), np.where(near, np.mod(every[j], TWO_PI), wrapped))

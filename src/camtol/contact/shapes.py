@@ -254,12 +254,13 @@ class AnalyticShape:
             The wrapped and snapped parameters. [rad]
         """
         t = np.mod(t_rad, TWO_PI)
-        b = np.append(self.boundaries_rad, TWO_PI)
-        if b.size:
-            j = np.argmin(np.abs(t[:, None] - b[None, :]), axis=1)
-            near = np.abs(t - b[j]) < 1e-9
-            t = np.where(near, np.mod(b[j], TWO_PI), t)
-        return t
+        b = np.unique(np.append(self.boundaries_rad, TWO_PI))  # sorted
+        # the nearest boundary is one of the two around t (a search, not all pairs)
+        hi = np.clip(np.searchsorted(b, t), 0, b.size - 1)
+        lo = np.maximum(hi - 1, 0)
+        j = np.where(np.abs(t - b[lo]) <= np.abs(b[hi] - t), lo, hi)
+        near = np.abs(t - b[j]) < 1e-9
+        return np.where(near, np.mod(b[j], TWO_PI), t)
 
     def support(self, psi_rad: ArrayLike, *, left_limit: ArrayLike | None = None) -> Support:
         """Exact support function h(ψ) of the profile's hull (Newton on the parameter).
