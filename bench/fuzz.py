@@ -1,10 +1,14 @@
 """Long fuzz run of the command line: ``python bench/fuzz.py [--cases N] [--seed S]``.
 
-Runs the four strategies of ``tests/fuzz`` (mutated examples, random designs with
-independently checked outputs, random bytes and encodings, random flags) for N cases in
-total without stopping at the first finding, and prints the number of runs, the exit
-codes, and every distinct finding (traceback, accepted impossible geometry, NaN in an
-output, bad error line) with one example each. Exit status 1 when anything was found.
+Runs the bad-input seeds of ``tests/fuzz/seeds.py`` (issue 32: lift tables with missing,
+repeated, decreasing or unequal rows, half or two revolutions, a closing 360° row that
+disagrees, huge lifts; an IT grade on an offset of 0 through every command; ...), each of
+which must be refused with one line and exit 2, then the four strategies of
+``tests/fuzz`` (mutated examples, random designs with independently checked outputs,
+random bytes and encodings, random flags) for N cases in total without stopping at the
+first finding, and prints the number of runs, the exit codes, and every distinct finding
+(traceback, accepted impossible geometry, NaN in an output, bad error line) with one
+example each. Exit status 1 when anything was found.
 
 Not a benchmark of speed: it is the long profile of the fuzz suite (issue 9), also
 available as ``pytest -m fuzz`` (failing at the first finding, with shrinking).
@@ -24,6 +28,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests" / "fuzz"))
 
 import fuzz_harness as fh  # noqa: E402
+import seeds as sd  # noqa: E402
 import test_fuzz as tf  # noqa: E402
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
@@ -101,6 +106,16 @@ def main() -> int:
 
     random.seed(ns.seed)
     t0 = time.perf_counter()
+    import tempfile
+
+    t = time.perf_counter()
+    all_seeds = sd.seeds()
+    for seed in all_seeds:
+        with tempfile.TemporaryDirectory(prefix="camtol-seed-") as d:
+            o, problems = sd.run_seed(seed, Path(d))
+        o.problems = problems  # type: ignore[attr-defined]
+        record(f"seed {seed.name}", [o])
+    print(f"{'seeds':8s} {len(all_seeds)} cases in {time.perf_counter() - t:.0f} s", flush=True)
     for name, fn in (("mutated", mutated), ("designs", designs), ("bytes", raw), ("flags", flags)):
         t = time.perf_counter()
         fn()

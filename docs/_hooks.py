@@ -85,6 +85,17 @@ def _link_citations(text: str, theory_url: str) -> str:
     )
 
 
+def on_page_markdown(markdown: str, page: Any, **kwargs: Any) -> str:
+    """Put the reference of every command (built from the command tree) into commands.md."""
+    if page.file.src_uri != "commands.md":
+        return markdown
+    from camtol.cli.reference import MARKER, commands_markdown
+
+    if MARKER not in markdown:
+        raise ValueError(f"docs/commands.md lacks the marker {MARKER}")
+    return markdown.replace(MARKER, commands_markdown())
+
+
 def on_page_content(html: str, page: Any, **kwargs: Any) -> str:
     """Render docstrings' reST roles and math markers; link "THEORY §x" citations."""
     html = _MATH.sub("", _ROLE.sub(_role, html))

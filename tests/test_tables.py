@@ -107,8 +107,13 @@ def test_check_step_refuses(step: float) -> None:
 
 def test_uniform_table_step() -> None:
     assert uniform_table_step(np.arange(360.0), source="t.csv") == (1.0, 360)
-    with pytest.raises(InputFileError, match=r"rows 3-4 go from 2° to 4°"):
-        uniform_table_step(np.r_[0.0, 1.0, 2.0, 4.0, np.arange(5.0, 361.0)], source="t.csv")
+    # the closing 360° row is dropped before (drop_closing_row); the gap is named
+    with pytest.raises(
+        InputFileError, match=r"row 4: theta_deg jumps from 2° to 4°; 1 row missing"
+    ):
+        uniform_table_step(np.r_[0.0, 1.0, 2.0, 4.0, np.arange(5.0, 360.0)], source="t.csv")
+    with pytest.raises(InputFileError, match=r"row 361: theta_deg=360° is beyond one revolution"):
+        uniform_table_step(np.arange(361.0), source="t.csv")
     with pytest.raises(InputFileError, match="must start at 0°"):
         uniform_table_step(np.arange(1.0, 361.0), source="t.csv")
 

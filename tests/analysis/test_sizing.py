@@ -163,3 +163,76 @@ def test_pressure_angle_requirement_agrees_with_the_reports(
 ) -> None:
     """Sizing and the reports apply one rule (kinematics.beyond_pressure_angle_limit)."""
     assert _pressure_angle_problem(max_abs_deg, limit_deg) is problem
+
+
+# --- oscillating followers: the linkage sized too (issue 32 item 5) --------------------
+def _with(design: CamDesign, rb: float, dims: dict[str, float]) -> CamDesign:
+    mech = dataclasses.replace(design.mechanism, base_radius_mm=rb, **dims)
+    return dataclasses.replace(design, mechanism=mech)
+
+
+def _max_phi(design: CamDesign) -> float:
+    theta, left = analysis_grid(0.1, design.program.boundaries_rad)
+    return max(
+        cam_geometry(label, mech, kin).max_abs_pressure_angle_deg
+        for label, mech, kin in _cam_kinematics(design, theta, left)
+    )
+
+
+@pytest.mark.parametrize(
+    ("name", "limit"), [("roller-oscillating", 30.0), ("cw06-oscillating", 25.0)]
+)
+def test_pivot_linkage_chooses_the_pivot_distance_and_keeps_the_arm(
+    name: str, limit: float
+) -> None:
+    d = load_example(name)
+    fixed = minimum_base_radius(d, pressure_angle_limit_deg=limit)
+    r = minimum_base_radius(d, pressure_angle_limit_deg=limit, linkage="pivot")
+    assert r.linkage == "pivot" and "pivot_distance_mm" in r.dimensions_mm
+    # the pivot is a design freedom: never a larger cam than with the pivot fixed
+    assert r.base_radius_mm <= fixed.base_radius_mm + r.tolerance_mm
+    kept = {k: v for k, v in r.dimensions_mm.items() if k != "pivot_distance_mm"}
+    assert kept == {k: r.given_dimensions_mm[k] for k in kept}  # arm (or face offset) kept
+    chosen = _with(d, r.base_radius_mm, r.dimensions_mm)
+    assert not _fails(chosen, limit), "the answer, rebuilt from its dimensions, works"
+    if r.limiting != "pressure angle":  # e.g. undercut: f is then held by that, not by |φ|
+        return
+    # the chosen f is a minimum of max |φ|: moving the pivot 1 % either way is no better
+    phi = _max_phi(chosen)
+    f = r.dimensions_mm["pivot_distance_mm"]
+    for factor in (0.99, 1.01):
+        moved = _with(d, r.base_radius_mm, {**r.dimensions_mm, "pivot_distance_mm": f * factor})
+        try:
+            assert _max_phi(moved) >= phi - 0.05
+        except DesignError:  # the moved pivot no longer reaches the cam: worse still
+            pass
+
+
+def test_scale_linkage_keeps_the_proportions() -> None:
+    d = load_example("roller-oscillating")
+    r = minimum_base_radius(d, pressure_angle_limit_deg=30.0, linkage="scale")
+    k = r.base_radius_mm / r.given_base_radius_mm
+    for key, value in r.dimensions_mm.items():
+        assert value == pytest.approx(r.given_dimensions_mm[key] * k, rel=1e-12)
+    assert not _fails(_with(d, r.base_radius_mm, r.dimensions_mm), 30.0)
+    # the arm never shrinks to its roller: that requirement is checked
+    assert r.dimensions_mm["arm_length_mm"] > d.mechanism.roller_radius_mm  # type: ignore[attr-defined]
+
+
+def test_linkage_messages_name_the_followers_own_parameters(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    with pytest.raises(
+        DesignError, match=r"follower\.pivot_distance_mm and follower\.arm_length_mm"
+    ):
+        minimum_base_radius(load_example("roller-oscillating"), optimise_offset=True)
+    with pytest.raises(DesignError, match="--optimise-offset for its offset e"):
+        minimum_base_radius(load_example("roller-translating"), linkage="pivot")
+    assert main(["size", "-e", "cw06-oscillating", "--optimise-offset"]) == 2
+    err = capsys.readouterr().err
+    assert "follower.pivot_distance_mm" in err and "a flat face's" not in err
+    assert err.count("\n") == 1
+    assert main(["size", "-e", "roller-oscillating", "--linkage", "pivot"]) == 0
+    out = capsys.readouterr().out
+    assert "pivot distance f" in out and "arm length l" in out and "kept" in out
+    assert max(len(line) for line in out.splitlines()) <= 80

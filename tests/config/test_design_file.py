@@ -98,11 +98,10 @@ def test_translating_lift_must_be_mm() -> None:
 
 
 def test_zero_offset_with_grade_asks_for_explicit_deviation() -> None:
-    from camtol.analysis.result import analyse
-
-    design = design_from_mapping(_with("follower.offset_mm", 0.0))
-    with pytest.raises(ValueError, match=r"tolerances.e='IT6' cannot be applied.*e_um"):
-        analyse(design)
+    # Issue 32: refused when the design is read, so that every command (not only those
+    # that resolve tolerances, as analyze does) refuses it alike.
+    with pytest.raises(ConfigError, match=r"tolerances.e='IT6' cannot be applied.*e_um"):
+        design_from_mapping(_with("follower.offset_mm", 0.0))
 
 
 def test_explicit_deviations_in_file_units() -> None:

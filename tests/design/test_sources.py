@@ -169,10 +169,11 @@ def test_phase_in_a_design_file_and_verify() -> None:
 
 
 def test_phase_takes_no_it_grade() -> None:
+    # Issue 32: refused when the design is made (every command alike), not only when an
+    # analysis resolves the tolerances.
     design = load_example("roller-translating")
-    bad = dataclasses.replace(design, tolerances=(ToleranceSpec("phase", grade="IT7"),))
-    with pytest.raises(DesignError, match="phase"):
-        bad.resolve_tolerances(60.0)
+    with pytest.raises(DesignError, match="tolerances.phase='IT7' cannot be applied"):
+        dataclasses.replace(design, tolerances=(ToleranceSpec("phase", grade="IT7"),))
 
 
 def test_register_design_source_refuses_duplicates() -> None:

@@ -76,7 +76,8 @@ def test_cut_oscillating_reports_degrees(capsys: pytest.CaptureFixture[str]) -> 
 def test_cut_text(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["cut", "-e", "popa-eccentric", "--cut-step", "2,5", "--read-step", "1"]) == 0
     out = capsys.readouterr().out
-    assert "4.5698" in out and "27.437" in out
+    assert "4.57" in out and "27.44" in out  # 4 significant digits (issue 32)
+    assert max(len(line) for line in out.splitlines()) <= 80
 
 
 def test_derive(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -113,7 +114,7 @@ def test_profile_gcode(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
 
     out = tmp_path / "cam.nc"
     args = ["profile", "-e", "cw06-translating", "-o", str(out), "--cutter-radius", "4"]
-    assert main([*args, "--tolerance", "1", "--json"]) == 0
+    assert main([*args, "--tolerance", "1", "--feed", "300", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["format"] == "gcode" and doc["mode"] == "arcs"
     path = read_gcode(out.read_text())[0]
@@ -183,15 +184,18 @@ def test_gouging_tool_exit_2_and_says_where(
     assert "gouge" in err and "θ=23" in err and err.count("\n") == 1
     assert not curves.exists()
     nc = tmp_path / "cam.nc"
-    assert main(["profile", str(design), "-o", str(nc), "--cutter-radius", "20"]) == 2
+    assert (
+        main(["profile", str(design), "-o", str(nc), "--cutter-radius", "20", "--feed", "99"]) == 2
+    )
     assert "gouge" in capsys.readouterr().err and not nc.exists()
 
 
 @pytest.mark.parametrize(
     ("rows", "message"),
     [
-        ("0,0\n1,0.1\n3,0.2\n", "a gap, repeat or unequal step"),
-        ("0,0\n1,0.1\n2,0.2\n3.5,0.3\n", "a gap, repeat or unequal step"),
+        # Issue 32: the line and what is wrong with it, not "rows 1-2" of a guessed step.
+        ("0,0\n1,0.1\n3,0.2\n", "line 4: theta_deg jumps from 1° to 3°; 1 row missing (2°"),
+        ("0,0\n1,0.1\n2,0.2\n3.5,0.3\n", "line 5: theta_deg steps from 2° to 3.5° (1.5°)"),
     ],
 )
 def test_derive_refuses_gaps_and_unequal_steps(

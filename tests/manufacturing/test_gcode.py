@@ -15,6 +15,9 @@ from camtol.exceptions import DesignError, UndercutError
 from camtol.manufacturing.gcode import GcodePath, path_deviation, read_gcode, write_gcode
 from camtol.manufacturing.toolpath import single_cams
 
+#: A cutting feed for the programs of these tests. [mm/min]
+FEED = 250.0
+
 
 @pytest.mark.parametrize("mode", ["arcs", "lines"])
 @pytest.mark.parametrize(
@@ -31,7 +34,7 @@ def test_read_back_lies_within_tolerance_between_blocks(
     name: str, radius: float, tol: float, mode: str
 ) -> None:
     d = load_example(name)
-    prog = write_gcode(d, tool_radius_mm=radius, tolerance_mm=tol, mode=mode)  # type: ignore[arg-type]
+    prog = write_gcode(d, feed_mm_min=FEED, tool_radius_mm=radius, tolerance_mm=tol, mode=mode)  # type: ignore[arg-type]
     paths = read_gcode(prog.text)
     cams = single_cams(d)
     assert len(paths) == len(cams)
@@ -67,7 +70,7 @@ def _tangents(path: GcodePath) -> tuple[np.ndarray, np.ndarray]:
 @pytest.mark.parametrize("name", ["cw06-translating", "roller-oscillating"])
 def test_biarcs_are_tangent_continuous(name: str) -> None:
     d = load_example(name)
-    prog = write_gcode(d, tool_radius_mm=5.0, tolerance_mm=1e-3)
+    prog = write_gcode(d, feed_mm_min=FEED, tool_radius_mm=5.0, tolerance_mm=1e-3)
     fitted = prog.paths[0]
     start, end = _tangents(fitted)
     # Each block starts with the tangent the previous one ended with (closed contour).
@@ -78,19 +81,22 @@ def test_biarcs_are_tangent_continuous(name: str) -> None:
     start, end = _tangents(read_gcode(prog.text)[0])
     assert np.max(np.abs(_cross(np.roll(end, 1, axis=0), start))) < 1e-4
     # Far fewer blocks than chords at the same tolerance.
-    lines = write_gcode(d, tool_radius_mm=5.0, tolerance_mm=1e-3, mode="lines")
+    lines = write_gcode(d, feed_mm_min=FEED, tool_radius_mm=5.0, tolerance_mm=1e-3, mode="lines")
     assert prog.blocks < 0.5 * lines.blocks
 
 
 def test_header_and_wire_edm_offset() -> None:
     d = load_example("popa-eccentric")
-    prog = write_gcode(d, wire_radius_mm=0.125, spark_gap_mm=0.025, tolerance_mm=1e-3)
+    prog = write_gcode(
+        d, feed_mm_min=FEED, wire_radius_mm=0.125, spark_gap_mm=0.025, tolerance_mm=1e-3
+    )
     assert prog.tool_radius_mm == pytest.approx(0.15)
-    head = prog.text.splitlines()[:8]
-    text = "\n".join(head)
-    assert "camtol" in text and "popa-eccentric" in text
-    assert "wire radius 0.125 mm + spark gap 0.025 mm = offset 0.15 mm" in text
-    assert "tolerance: 1 um" in text and "G21 G90" in text
+    head = prog.text.split("G00", 1)[0]  # everything before the first move
+    assert "camtol" in head and "popa-eccentric" in head
+    assert "wire radius 0.125 mm + spark gap 0.025 mm = offset 0.15 mm" in head
+    assert "tolerance: 1 um" in head
+    for code in ("G21", "G17", "G90", "G40", "G94"):  # units, plane, absolute, no comp.
+        assert f"\n{code} (" in head
     path = read_gcode(prog.text)[0]
     # The path is the eccentric circle grown by the offset: radius 30.15 mm about (−5, 0).
     assert path_deviation(path, d, 0.15) <= 1e-3
@@ -100,15 +106,15 @@ def test_header_and_wire_edm_offset() -> None:
 
 def test_gouging_tool_and_bad_options_are_refused() -> None:
     with pytest.raises(UndercutError, match="gouge"):
-        write_gcode(concave_roller_design(), tool_radius_mm=20.0)
+        write_gcode(concave_roller_design(), feed_mm_min=FEED, tool_radius_mm=20.0)
     d = load_example("popa-eccentric")
     with pytest.raises(DesignError, match="exactly one"):
-        write_gcode(d)
+        write_gcode(d, feed_mm_min=FEED)
     with pytest.raises(DesignError, match="tolerance_mm"):
-        write_gcode(d, tool_radius_mm=1.0, tolerance_mm=0.0)
+        write_gcode(d, feed_mm_min=FEED, tool_radius_mm=1.0, tolerance_mm=0.0)
     for kw in ({"tool_radius_mm": 1e30}, {"wire_radius_mm": 99_999.0, "spark_gap_mm": 2.0}):
         with pytest.raises(DesignError, match="tool offset .* at most 100000 mm"):
-            write_gcode(d, **kw)  # type: ignore[arg-type]
+            write_gcode(d, feed_mm_min=FEED, **kw)  # type: ignore[arg-type]
 
 
 @settings(max_examples=12)
@@ -122,6 +128,8 @@ def test_any_tool_and_tolerance_reads_back_within_tolerance(
     radius: float, tol_um: float, mode: str, name: str
 ) -> None:
     d = load_example(name)
-    prog = write_gcode(d, tool_radius_mm=radius, tolerance_mm=tol_um * 1e-3, mode=mode)  # type: ignore[arg-type]
+    prog = write_gcode(
+        d, feed_mm_min=FEED, tool_radius_mm=radius, tolerance_mm=tol_um * 1e-3, mode=mode
+    )  # type: ignore[arg-type]
     path = read_gcode(prog.text)[0]
     assert path_deviation(path, d, radius, per_block=12) <= tol_um * 1e-3

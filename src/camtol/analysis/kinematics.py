@@ -23,7 +23,7 @@ from camtol.analysis.state import (
 )
 from camtol.design.cam_design import CamDesign
 from camtol.design.motion import MotionState
-from camtol.grid import check_step
+from camtol.grid import check_step, sorted_unique
 from camtol.jet import FloatArray, Jet
 from camtol.mechanisms.base import ContactGeometry
 
@@ -88,7 +88,7 @@ def _build_grid(
     n = int(round(360.0 / step_deg))
     theta = np.linspace(0.0, 2.0 * math.pi, n + 1)
     b = np.mod(np.asarray(boundaries_rad, dtype=float), 2.0 * math.pi)
-    b = np.unique(np.concatenate([b, b + 2 * math.pi, [2 * math.pi]]))
+    b = sorted_unique(np.concatenate([b, b + 2 * math.pi, [2 * math.pi]]))
     b = b[(b > 0) & (b <= 2 * math.pi + 1e-12)]
     # Snap boundaries onto existing grid points when they coincide.
     idx = np.searchsorted(theta, b)

@@ -24,6 +24,30 @@ it lies on the ladder. A band narrower than a rung could be missed; the message 
 lists every requirement that failed on the way. With ``optimise_offset`` the offset of a
 translating roller follower is chosen at each radius to minimise the largest |φ| (the
 classic rise/return balance), by bounded scalar minimisation.
+
+An oscillating follower is sized by its linkage too (``linkage``): its pressure angle is
+set by the ratios of the prime radius, the pivot distance f and the arm length l, so the
+base radius alone often cannot help (the cam soon reaches the fixed pivot).
+
+- ``"pivot"``: the arm length is kept (the output it drives needs it) and the pivot
+  distance f is chosen at each r_b to minimise the largest |φ|: the oscillating
+  counterpart of the offset balance, since f places the follower as e does. f is scanned
+  over the whole band in which the arm reaches the prime circle (|l − r_p| < f < l + r_p;
+  for a flat face |r_b − e| < f < 8 max(|r_b − e|, r_b)) on a 1° grid plus the segment
+  boundaries, refined by bounded minimisation, then checked on the full grid.
+- ``"scale"``: the linkage lengths (f, l; a flat face's offset; a conjugate pair's two
+  arms) grow in proportion to r_b, keeping the design's proportions: the whole mechanism
+  is sized. |φ| hardly changes then (it depends on the ratios; only the roller, a bought
+  part never changed, breaks the proportion), so this answers the curvature limits.
+
+Left free, the arm would shrink to nothing (a shorter arm always lowers |φ|, the roller
+travelling less for the same swing), so it is never optimised; an arm no longer than its
+roller's radius (the roller would enclose the pivot) is refused as a requirement.
+
+Why one module: it is one search. The requirements, the radius ladder with its bisection
+and the two balances (a translating roller's offset, an oscillating follower's pivot) are
+one loop over candidate designs: each balance is evaluated at every radius the search
+tries, and the answer's limiting requirement is read from the same assessment.
 """
 
 from __future__ import annotations
@@ -49,10 +73,23 @@ from camtol.grid import check_step
 from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
 
-__all__ = ["sizing_hint", "SizingResult", "minimum_base_radius"]
+__all__ = ["LINKAGE_MODES", "LINKAGE_FIELDS", "sizing_hint", "SizingResult", "minimum_base_radius"]
 
 #: Largest base radius tried before giving up. [mm]
 MAX_BASE_RADIUS_MM = 1e5
+#: How an oscillating follower's linkage follows the base radius (see the module notes).
+LINKAGE_MODES: tuple[str, ...] = ("fixed", "pivot", "scale")
+#: The linkage lengths of each oscillating follower kind (file field names).
+LINKAGE_FIELDS: dict[str, tuple[str, ...]] = {
+    "roller_oscillating": ("pivot_distance_mm", "arm_length_mm"),
+    "flat_oscillating": ("pivot_distance_mm", "face_offset_mm"),
+    "conjugate": ("pivot_distance_mm", "arm_a_mm", "arm_b_mm"),
+}
+#: The arms of each kind with a roller, and the field of that roller's radius.
+_ARMS: dict[str, tuple[tuple[str, str], ...]] = {
+    "roller_oscillating": (("arm_length_mm", "roller_radius_mm"),),
+    "conjugate": (("arm_a_mm", "roller_radius_mm"), ("arm_b_mm", "roller_b_radius_mm")),
+}
 
 
 @dataclass(frozen=True)
@@ -76,6 +113,13 @@ class SizingResult:
         The requirements. [deg, mm, mm]
     tolerance_mm : float
         Resolution of the search. [mm]
+    linkage : {"fixed", "pivot", "scale"}
+        How an oscillating follower's linkage followed the base radius.
+    dimensions_mm : dict of str to float
+        The linkage lengths chosen with the base radius, by follower field name (e.g.
+        ``pivot_distance_mm``, ``arm_length_mm``); empty with ``linkage="fixed"``. [mm]
+    given_dimensions_mm : dict of str to float
+        The same lengths as given. [mm]
     """
 
     base_radius_mm: float
@@ -87,6 +131,9 @@ class SizingResult:
     min_radius_mm: float | None
     cutter_radius_mm: float | None
     tolerance_mm: float
+    linkage: str = "fixed"
+    dimensions_mm: dict[str, float] = dataclasses.field(default_factory=dict)
+    given_dimensions_mm: dict[str, float] = dataclasses.field(default_factory=dict)
 
 
 def _cam_kinematics(
@@ -138,6 +185,7 @@ def minimum_base_radius(
     optimise_offset: bool = False,
     step_deg: float = 0.1,
     tolerance_mm: float = 1e-3,
+    linkage: str = "fixed",
 ) -> SizingResult:
     """Smallest base radius (and best offset) meeting the pressure-angle and curvature limits.
 
@@ -159,6 +207,10 @@ def minimum_base_radius(
         Grid step of the evaluation (segment boundaries are always included). [deg]
     tolerance_mm : float
         Resolution of the answer. [mm]
+    linkage : {"fixed", "pivot", "scale"}
+        Oscillating followers: keep the pivot distance and arm length (``"fixed"``),
+        choose the pivot distance at each base radius for the smallest largest |φ| with
+        the arm kept (``"pivot"``), or scale both with the base radius (``"scale"``).
 
     Returns
     -------
@@ -175,10 +227,29 @@ def minimum_base_radius(
     mech = design.mechanism
     if not hasattr(mech, "base_radius_mm"):
         raise DesignError(f"a {mech.kind} follower has no base radius to size")
+    fields = LINKAGE_FIELDS.get(mech.kind)
     if optimise_offset and mech.kind != "roller_translating":
+        if fields is not None:
+            names = " and ".join(f"follower.{f}" for f in fields)
+            raise DesignError(
+                f"--optimise-offset is for the offset e of a translating roller follower; a"
+                f" {mech.kind} follower is sized with its {names}: use --linkage pivot or"
+                " --linkage scale"
+            )
         raise DesignError(
-            f"optimise_offset is for a translating roller follower, not a {mech.kind} follower"
-            " (a flat face's offset does not change its pressure angle)"
+            f"--optimise-offset is for a translating roller follower, not a {mech.kind}"
+            " follower (a flat face's offset does not change its pressure angle)"
+        )
+    if linkage not in LINKAGE_MODES:
+        raise DesignError(
+            f"linkage={linkage!r} is not allowed; allowed: {', '.join(LINKAGE_MODES)}"
+        )
+    optimisable = mech.kind == "roller_translating"
+    if linkage != "fixed" and fields is None:
+        raise DesignError(
+            f"--linkage {linkage} is for an oscillating follower's pivot distance and arm"
+            f" length; a {mech.kind} follower has none"
+            + (": use --optimise-offset for its offset e" if optimisable else "")
         )
     limit = pressure_angle_limit_deg
     if limit is None:
@@ -204,8 +275,14 @@ def minimum_base_radius(
                 " slow the motion (longer segments or a smaller swing)"
             )
 
-    def build(rb: float, offset: float | None) -> CamDesign | None:
-        changes: dict[str, float] = {"base_radius_mm": rb}
+    given = float(mech.base_radius_mm)
+    given_dims = {f: float(getattr(mech, f)) for f in (fields or ())}
+    coarse, coarse_left = analysis_grid(1.0, design.program.boundaries_rad)
+
+    def build(
+        rb: float, offset: float | None, dims: dict[str, float] | None = None
+    ) -> CamDesign | None:
+        changes: dict[str, float] = {"base_radius_mm": rb, **(dims or {})}
         if offset is not None:
             changes["offset_mm"] = offset
         try:
@@ -229,6 +306,11 @@ def minimum_base_radius(
             pivot = getattr(m, "pivot_distance_mm", None)
             if pivot is not None and np.nanmax(kin.radius_mm) >= pivot:
                 problems.append("cam reaches the follower pivot")
+        mm = d.mechanism
+        for arm, roller in _ARMS.get(mm.kind, ()):
+            r_f = getattr(mm, roller, None) or float(mm.roller_radius_mm)  # type: ignore[attr-defined]
+            if float(getattr(mm, arm)) <= r_f:
+                problems.append("roller encloses the follower pivot (arm ≤ roller radius)")
         return sizes, sorted(set(problems))
 
     def best_offset(rb: float) -> float | None:
@@ -249,16 +331,96 @@ def minimum_base_radius(
         res = minimize_scalar(worst, bounds=(-0.9 * rp, 0.9 * rp), method="bounded")
         return float(res.x)
 
+    def scaled(rb: float) -> dict[str, float]:
+        if linkage == "scale":
+            return {f: v * rb / given for f, v in given_dims.items()}
+        return dict(given_dims) if linkage == "pivot" else {}
+
+    def linkage_worst(rb: float, dims: dict[str, float]) -> float:
+        """Largest |φ| of every cam on the coarse grid; inf where the linkage fails."""
+        d = build(rb, None, dims)
+        if d is None:
+            return math.inf
+        worst = 0.0
+        with np.errstate(all="ignore"):  # a failing linkage gives inf/NaN: judged below
+            cams = _cam_kinematics(d, coarse, coarse_left)
+        for label, m, kin in cams:
+            pa = np.abs(kin.pressure_angle_rad)
+            pivot = getattr(m, "pivot_distance_mm", None)
+            reach = pivot is not None and float(np.nanmax(kin.radius_mm)) >= pivot
+            if reach or not (np.all(np.isfinite(pa)) and np.all(np.isfinite(kin.radius_mm))):
+                return math.inf
+            if cam_geometry(label, m, kin, pressure_angle_limit_deg=limit).undercut:
+                return math.inf  # a pivot that undercuts is no answer, whatever its |φ|
+            worst = max(worst, float(np.max(pa)))
+        return worst
+
+    def pivot_range(rb: float, dims: dict[str, float]) -> tuple[float, float]:
+        """Pivot distances at which the follower can touch the base circle. [mm]"""
+        if mech.kind == "flat_oscillating":
+            low = abs(rb - dims["face_offset_mm"])
+            return low, 8.0 * max(low, rb)
+        arm = dims["arm_length_mm" if mech.kind == "roller_oscillating" else "arm_a_mm"]
+        rp = rb + float(mech.roller_radius_mm)  # type: ignore[attr-defined]
+        return abs(arm - rp), arm + rp
+
+    def best_linkage(rb: float) -> dict[str, float]:
+        start = scaled(rb)
+        if linkage != "pivot":
+            return start
+        from scipy.optimize import minimize_scalar
+
+        lo, hi = pivot_range(rb, start)
+
+        def at(u: float) -> dict[str, float]:
+            return {**start, "pivot_distance_mm": lo + u * (hi - lo)}
+
+        # Scan the whole band, then refine the best bracket (the largest |φ| is unimodal
+        # near its minimum, not over the band).
+        us = np.linspace(0.01, 0.99, 33)
+        own = (start["pivot_distance_mm"] - lo) / (hi - lo)  # the given f, when in the band
+        if 0.0 < own < 1.0:
+            us = np.sort(np.append(us, own))
+        vals = np.array([linkage_worst(rb, at(float(u))) for u in us])
+        if not np.any(np.isfinite(vals)):
+            return start
+        k = int(np.argmin(vals))
+        a, b = float(us[max(k - 1, 0)]), float(us[min(k + 1, us.size - 1)])
+        res = minimize_scalar(  # a large finite value for a failing f keeps Brent's steps finite
+            lambda u: min(linkage_worst(rb, at(float(u))), 1e3),
+            bounds=(a, b),
+            method="bounded",
+            options={"xatol": 1e-6},
+        )
+        return at(float(res.x) if res.fun <= vals[k] else float(us[k]))
+
     def ok(rb: float) -> tuple[bool, list[str], list[CamGeometry], float | None]:
         e = best_offset(rb)
-        d = build(rb, e)
+        dims = best_linkage(rb)
+        d = build(rb, e, dims)
+        chosen[rb] = dims
         if d is None:
             return False, ["dimensions impossible"], [], e
         sizes, problems = assess(d)
+        if problems and linkage == "pivot":  # the coarse grid misled: the given f may do
+            own = build(rb, e, scaled(rb))
+            if own is not None:
+                own_sizes, own_problems = assess(own)
+                if not own_problems:
+                    chosen[rb] = scaled(rb)
+                    return True, [], own_sizes, e
         return not problems, problems, sizes, e
 
-    given = float(mech.base_radius_mm)
-    return _search(design, given, ok, tolerance_mm, limit, min_radius_mm, cutter_radius_mm)
+    chosen: dict[float, dict[str, float]] = {}
+    res = _search(design, given, ok, tolerance_mm, limit, min_radius_mm, cutter_radius_mm)
+    if linkage == "fixed":
+        return res
+    return dataclasses.replace(
+        res,
+        linkage=linkage,
+        dimensions_mm=chosen[res.base_radius_mm],
+        given_dimensions_mm=given_dims,
+    )
 
 
 def _search(

@@ -38,6 +38,7 @@ from camtol.analysis.state import Kinematics, check_geometry
 from camtol.design.cam_design import CamDesign
 from camtol.design.motion import SegmentProgram
 from camtol.exceptions import DesignError, GeometryError
+from camtol.grid import sorted_unique
 from camtol.jet import FloatArray
 
 __all__ = ["check_design_geometry", "single_cam_designs", "validation_grid"]
@@ -93,7 +94,7 @@ def validation_grid(design: CamDesign) -> tuple[FloatArray, NDArray[np.bool_], N
     interval : ndarray of intp
         Index of the interval each sample belongs to.
     """
-    b = np.unique(np.mod(np.asarray(design.program.boundaries_rad, dtype=float), TWO_PI))
+    b = sorted_unique(np.mod(np.asarray(design.program.boundaries_rad, dtype=float), TWO_PI))
     if b.size == 0:
         b = np.array([0.0])
     if b.size > MAX_INTERVALS:  # bound the work: both ends and a midpoint of each

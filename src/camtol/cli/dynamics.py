@@ -222,8 +222,12 @@ def dynamics(
         if as_json:
             echo_json(rep.dynamics_json(result), command="dynamics")
         else:
-            for line in rep.dynamics_text(result):
-                click.echo(line)
+            import textwrap
+
+            for line in rep.dynamics_text(result):  # label column of 19, 80 columns
+                click.echo(
+                    textwrap.fill(line, 80, subsequent_indent=" " * 19, break_on_hyphens=False)
+                )
         return EXIT_OK
 
     raise _Exit(run_guarded(body))

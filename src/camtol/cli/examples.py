@@ -14,10 +14,13 @@ __all__ = ["examples"]
 def examples(ctx: click.Context) -> None:
     """List the built-in example designs (`camtol examples show NAME` prints one)."""
     if ctx.invoked_subcommand is None:
+        import textwrap
+
         from camtol.config.examples import example_names, example_summary
 
-        for name in example_names():
-            click.echo(f"{name:20s} {example_summary(name)}")
+        for name in example_names():  # the summary wrapped under itself, 80 columns
+            line = f"{name:18s} {example_summary(name)}"
+            click.echo(textwrap.fill(line, 80, subsequent_indent=" " * 19))
 
 
 @examples.command("show")

@@ -3,6 +3,10 @@
 Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 0 on success, 2 on bad
 input (one line on stderr, nothing written). Output files go through
 :func:`camtol.files.atomic_write`.
+
+Why one module: the three commands are the command-line face of one concept, the
+precision a cam is made and measured to (THEORY §6: table precision, cutting step,
+derivatives of a measured lift); they share their option parsing and output helpers.
 """
 
 from __future__ import annotations
@@ -26,6 +30,14 @@ from camtol.cli.options import MAX_TOOL_RADIUS_MM, Number, design_options
 
 __all__ = ["cut", "derive", "precision"]
 
+#: ``camtol cut --json`` layout: 1.1 chose ``coarsest_cut_step_deg`` among the listed
+#: steps (1.0: a hidden candidate list) and added ``lift_tolerance_unit`` and the
+#: velocity jumps (issue 32).
+CUT_SCHEMA_VERSION = "1.1"
+#: derive --json 1.1 (issue 32): A_uncertainty_* includes the smoothing bias; the noise
+#: and the bias are given beside it (A_noise_*, A_smoothing_bias_*).
+DERIVE_SCHEMA_VERSION = "1.1"
+
 
 def _floats(text: str, option: str) -> list[float]:
     try:
@@ -35,6 +47,14 @@ def _floats(text: str, option: str) -> list[float]:
     if not values:
         fail(f"{option}={text!r} is not allowed; give at least one number")
     return values
+
+
+def _wrapped_echo(text: str) -> None:
+    """Print a line wrapped to 80 columns, its continuation indented under its text."""
+    import textwrap
+
+    lead = " " * (len(text) - len(text.lstrip(" ")) + 2)
+    click.echo(textwrap.fill(text, 80, subsequent_indent=lead, break_on_hyphens=False))
 
 
 def _ints(text: str, option: str) -> list[int]:
@@ -148,21 +168,33 @@ def precision(
             f"camtol precision: {st.design_name}, table every {st.table_step_deg:g}°,"
             f" max |A| = {st.max_abs_acceleration:.6g} {u}/rad²"
         )
-        echo(
-            f"  unrounded: central differences err by {st.truncation_dV_central:.3g} {u}/rad"
+        import textwrap
+
+        def para(text: str) -> None:  # wrapped to 80 columns, indented
+            echo(textwrap.fill(text, 78, initial_indent="  ", subsequent_indent="  "))
+
+        para(
+            f"unrounded: central differences err by {st.truncation_dV_central:.3g} {u}/rad"
             f" (V) and {st.truncation_dA_central:.3g} {u}/rad² (A); truncation estimate"
             f" max(Δθ²/12·max|S''''|, Δθ/6·max|ΔJ|) = {st.truncation_estimate_dA:.3g} {u}/rad²"
         )
-        echo(
-            f"  {'decimals':>8} {'Q':>8} {'max|dV| cd':>11} {'max|dA| cd':>11}"
-            f" {'4s/Δθ²':>9} {'2s/Δθ²':>9} {'max|dA| spl':>12} {'6Q/Δθ²':>9}   [{u}/rad, {u}/rad²]"
-        )
+        heads = ["max|dV|cd", "max|dA|cd", "4s/Δθ²", "2s/Δθ²", "max|dA|sp", "6Q/Δθ²"]
+        echo(f"  {'dec':>3} {'Q ' + u:>7}" + "".join(f" {h:>9}" for h in heads))
         for r in st.rows:
-            echo(
-                f"  {r.decimals:>8d} {r.quantum:>8.0e} {r.max_abs_dV_central:>11.4g}"
-                f" {r.max_abs_dA_central:>11.4g} {r.bound_alternating:>9.4g} {r.bound_dip:>9.4g}"
-                f" {r.max_abs_dA_spline:>12.4g} {r.bound_spline:>9.4g}"
-            )
+            values = [
+                r.max_abs_dV_central,
+                r.max_abs_dA_central,
+                r.bound_alternating,
+                r.bound_dip,
+                r.max_abs_dA_spline,
+                r.bound_spline,
+            ]
+            echo(f"  {r.decimals:>3d} {r.quantum:>7.0e}" + "".join(f" {v:>9.4g}" for v in values))
+        para(
+            f"dec: decimals of the table; Q: its rounding step; dV in {u}/rad, dA and the"
+            f" bounds in {u}/rad²; cd: central differences, sp: camtol's periodic spline;"
+            " s is half of Q."
+        )
         if st.accel_budget_pct is not None:
             rec = st.recommended_decimals
             echo(
@@ -195,6 +227,8 @@ def _cut_json(res: Any) -> dict[str, Any]:
         "rule_rho_delta2_over_8_um": float(res.rule_mm.max()) * 1e3,
         "max_abs_dV_exact": float(abs(res.velocity_error).max()) * scale,
         "max_abs_dA_exact": float(abs(res.acceleration_error).max()) * scale,
+        "velocity_jumps": int(res.velocity_jump.size),
+        "max_velocity_jump": res.max_velocity_jump * scale,
         "derivative_units": {"V": f"{lu}/rad", "A": f"{lu}/rad2"},
     }
 
@@ -223,15 +257,21 @@ def _cut_json(res: Any) -> dict[str, Any]:
     help="Which cam of a conjugate pair to cut.",
 )  # fmt: skip
 @click.option(
-    "--lift-tolerance-um", "lift_tol", type=Number(low=0, low_open=True), default=None,
-    metavar="UM",
-    help="Find the coarsest step whose lift error stays within this [µm, or deg for an"
-    " oscillating follower].",
+    "--lift-tolerance-um", "lift_tol_um", type=Number(low=0, low_open=True, unit="µm"),
+    default=None, metavar="UM",
+    help="Translating follower: the coarsest listed step whose lift error stays within UM.",
+)  # fmt: skip
+@click.option(
+    "--lift-tolerance-deg", "lift_tol_deg", type=Number(low=0, low_open=True, unit="deg"),
+    default=None, metavar="DEG",
+    help="Oscillating follower: the coarsest listed step whose arm-angle error stays within"
+    " DEG.",
 )  # fmt: skip
 @click.option(
     "--accel-budget", "accel_budget_pct", type=Number(low=0, low_open=True, unit="%"),
     default=None, metavar="PCT",
-    help="Find the coarsest step whose second-difference A error stays within PCT % of max |A|.",
+    help="The coarsest listed step whose second-difference A error stays within PCT % of"
+    " max |A|.",
 )  # fmt: skip
 @click.option(
     "--curves", "curves_path", default=None, metavar="FILE.csv",
@@ -246,7 +286,8 @@ def cut(
     tool_radius_mm: float | None,
     read_step_deg: float | None,
     cam: str,
-    lift_tol: float | None,
+    lift_tol_um: float | None,
+    lift_tol_deg: float | None,
     accel_budget_pct: float | None,
     curves_path: str | None,
     as_json: bool,
@@ -256,7 +297,9 @@ def cut(
     The tool is set at the angles kδ (flat: the cam is the intersection of half-planes;
     cylinder: the blank minus the tool's disks), the follower's motion on the cut cam is
     found with the contact engine at the reading step, and the lift, V and A errors, the
-    scallop height and the rule ρδ²/8 are reported per cut step.
+    scallop height and the rule ρδ²/8 are reported per cut step, with the follower's
+    velocity jump at the cusps. With a lift tolerance or an A budget, the coarsest of the
+    listed steps that meets it is recommended.
     """
 
     def body() -> int:
@@ -267,6 +310,9 @@ def cut(
         from camtol.report.csv_text import csv_text
         from camtol.report.finite import require_finite_columns
 
+        if lift_tol_um is not None and lift_tol_deg is not None:
+            fail("give --lift-tolerance-um (translating) or --lift-tolerance-deg (oscillating)")
+        lift_tol = lift_tol_um if lift_tol_um is not None else lift_tol_deg
         inputs = CutStudyInputs(
             cut_steps_deg=tuple(_floats(cut_steps_text, "--cut-step")),
             tool="cylinder" if tool == "cylinder" else "flat",
@@ -276,6 +322,9 @@ def cut(
             lift_tolerance=lift_tol,
             accel_budget_pct=accel_budget_pct,
             curves=curves_path is not None,
+            lift_tolerance_unit=(
+                None if lift_tol is None else "um" if lift_tol_um is not None else "deg"
+            ),
         )
         guard_paths({"DESIGN": design}, {"--curves": curves_path})
         check_output_path(curves_path, "--curves", [".csv"])
@@ -298,31 +347,52 @@ def cut(
             }
             if inputs.has_criteria:
                 doc["lift_tolerance"] = lift_tol
+                doc["lift_tolerance_unit"] = inputs.lift_tolerance_unit
                 doc["accel_budget_pct"] = accel_budget_pct
                 doc["coarsest_cut_step_deg"] = coarsest
-            echo_json(doc, command="cut")
+            echo_json(doc, command="cut", schema_version=CUT_SCHEMA_VERSION)
             return EXIT_OK
         u = results[0].lift_error_unit
         lu = "°" if oscillating else "mm"
         pretty = "µm" if u == "um" else "°"
         what = "flat tool" if tool == "flat" else f"cylinder R = {tool_radius_mm:g} mm"
-        click.echo(f"camtol cut: {study.design_name}, {what}")
-        click.echo(
-            f"  {'step°':>6} {'read°':>7} {'max|ΔS| ' + pretty:>13} {'scallop µm':>11}"
-            f" {'ρδ²/8 µm':>10} {'max|ΔA| 2nd diff':>17}   [{lu}/rad²]"
+        echo = click.echo
+        echo(f"camtol cut: {study.design_name}, {what}")
+        echo(
+            f"  {'step°':>6} {'read°':>6} {'max|ΔS| ' + pretty:>11} {'scallop µm':>10}"
+            f" {'ρδ²/8 µm':>9} {'V jump':>9} {'A 2nd diff':>11}"
         )
         for r in results:
             j = _cut_json(r)
-            click.echo(
-                f"  {r.cut.cut_step_deg:>6g} {r.read_step_deg:>7g}"
-                f" {j[f'max_abs_lift_error_{u}']:>13.5g} {j['scallop_height_um']:>11.4g}"
-                f" {j['rule_rho_delta2_over_8_um']:>10.4g} {j['max_abs_dA_central']:>17.4g}"
+            echo(
+                f"  {r.cut.cut_step_deg:>6g} {r.read_step_deg:>6g}"
+                f" {j[f'max_abs_lift_error_{u}']:>11.4g} {j['scallop_height_um']:>10.4g}"
+                f" {j['rule_rho_delta2_over_8_um']:>9.4g} {j['max_velocity_jump']:>9.4g}"
+                f" {j['max_abs_dA_central']:>11.4g}"
+            )
+        echo(f"  [V jump in {lu}/rad, A 2nd diff in {lu}/rad²]")
+        if any(r.velocity_jump.size for r in results):
+            echo(
+                "  The follower's velocity jumps at each cusp (an impulse of A); second\n"
+                "  differences read a jump ΔV as ΔV/Δθ_read, so 'A 2nd diff' grows as the\n"
+                "  reading step shrinks: it measures the jumps, not the curve between them."
             )
         if inputs.has_criteria:
-            click.echo(
-                "  coarsest step meeting the criteria: "
-                + (f"{coarsest:g}°" if coarsest is not None else "none of the candidates")
+            import textwrap
+
+            wanted = []
+            if lift_tol is not None:
+                wanted.append(f"max|ΔS| ≤ {lift_tol:g}{'' if u == 'deg' else ' '}{pretty}")
+            if accel_budget_pct is not None:
+                wanted.append(f"A 2nd diff ≤ {accel_budget_pct:g} % of max|A|")
+            steps = ", ".join(f"{s:g}°" for s in inputs.cut_steps_deg)
+            text = (
+                f"coarsest listed step with {' and '.join(wanted)}: {coarsest:g}°"
+                if coarsest is not None
+                else f"none of the listed steps ({steps}) has {' and '.join(wanted)}; list"
+                " finer steps with --cut-step"
             )
+            echo(textwrap.fill(text, 78, initial_indent="  ", subsequent_indent="  "))
         if curves_path is not None:
             click.echo(f"wrote {curves_path}")
         return EXIT_OK
@@ -382,6 +452,7 @@ def derive(
 
         from camtol.exceptions import InputFileError
         from camtol.files import atomic_write
+        from camtol.grid import drop_closing_row
         from camtol.manufacturing.derivatives import derive_lift
         from camtol.report.csv_text import csv_text
         from camtol.report.finite import require_finite_columns
@@ -408,11 +479,18 @@ def derive(
             noise = noise_deg
         theta = table.column("theta_deg")
         lift = table.column(cols[0])
-        if theta.size > 1 and abs(theta[-1] - 360.0) < 1e-9:
-            theta, lift = theta[:-1], lift[:-1]
+        theta, lift = drop_closing_row(
+            theta, lift, source=lift_csv, name=cols[0], line_of=table.line_of
+        )
         kind: Any = method
         res = derive_lift(
-            theta, lift, method=kind, smoothing=smoothing, noise=noise, source=lift_csv
+            theta,
+            lift,
+            method=kind,
+            smoothing=smoothing,
+            noise=noise,
+            source=lift_csv,
+            line_of=table.line_of,
         )
         # Gains per µm of lift noise (mm files) or per 0.001° (deg files).
         per = 1e-3
@@ -451,10 +529,12 @@ def derive(
                 f"J_{unit}_per_rad3": g[3] * per,
             },
             f"A_uncertainty_{unit}_per_rad2": res.acceleration_uncertainty,
+            f"A_noise_{unit}_per_rad2": res.acceleration_noise,
+            f"A_smoothing_bias_{unit}_per_rad2": res.acceleration_bias,
             "max_abs_A": float(abs(res.acceleration).max()),
         }
         if as_json:
-            echo_json(doc, command="derive")
+            echo_json(doc, command="derive", schema_version=DERIVE_SCHEMA_VERSION)
             return EXIT_OK
         nu = "µm" if unit == "mm" else "0.001°"
         how = {"gcv": "generalised cross-validation", "noise": "the given noise level",
@@ -464,7 +544,7 @@ def derive(
             if res.method == "spline"
             else f"window = {res.parameter:g} samples (cubic)"
         )
-        echo = click.echo
+        echo = _wrapped_echo  # 80 columns (issue 32)
         echo(f"camtol derive: {lift_csv}, {theta.size} samples every {360 / theta.size:g}°")
         echo(f"  smoothing: {res.method}, {par}, chosen by {how}; {res.effective_dof:.1f} dof")
         echo(
@@ -478,6 +558,10 @@ def derive(
         echo(
             f"  so A is uncertain by about ±{res.acceleration_uncertainty:.4g} {unit}/rad² (1σ)"
             f" against max |A| = {doc['max_abs_A']:.4g} {unit}/rad²"
+        )
+        echo(
+            f"  = √(noise² + bias²): noise {res.acceleration_noise:.3g}, smoothing bias"
+            f" {res.acceleration_bias:.3g} {unit}/rad²"
         )
         if output is not None:
             echo(f"wrote {output}")

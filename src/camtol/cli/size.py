@@ -21,6 +21,16 @@ from camtol.cli.options import Number, design_options, step_option
 __all__ = ["size"]
 
 
+#: How the text output names the linkage lengths (follower fields) of --linkage.
+_DIMENSION_NAMES = {
+    "pivot_distance_mm": "pivot distance f",
+    "arm_length_mm": "arm length l",
+    "arm_a_mm": "arm length l_A",
+    "arm_b_mm": "arm length l_B",
+    "face_offset_mm": "face offset e",
+}
+
+
 def _finite(x: float) -> float | None:
     return x if math.isfinite(x) else None
 
@@ -48,6 +58,9 @@ def sizing_json(result: Any) -> dict[str, Any]:
         "min_radius_mm": result.min_radius_mm,
         "cutter_radius_mm": result.cutter_radius_mm,
         "tolerance_mm": result.tolerance_mm,
+        "linkage": result.linkage,
+        "dimensions_mm": {k: round(v, 6) for k, v in result.dimensions_mm.items()},
+        "given_dimensions_mm": result.given_dimensions_mm,
         "cams": [
             {
                 "cam": c.label or "cam",
@@ -93,6 +106,15 @@ def sizing_json(result: Any) -> dict[str, Any]:
     is_flag=True,
     help="Also choose the offset of a translating roller follower (smallest max |φ|).",
 )
+@click.option(
+    "--linkage",
+    type=click.Choice(["fixed", "pivot", "scale"]),
+    default="fixed",
+    show_default=True,
+    help="Oscillating follower: keep the pivot distance and arm length (fixed), choose the"
+    " pivot distance for the smallest max |φ| with the arm kept (pivot), or scale both"
+    " with the base radius (scale).",
+)
 @step_option(max_points=360_000)
 @click.option(
     "--jump-margin",
@@ -117,16 +139,19 @@ def size(
     min_radius_mm: float | None,
     cutter_radius_mm: float | None,
     optimise_offset: bool,
+    linkage: str,
     step_deg: float,
     jump_margin: float | None,
     rpm: float | None,
     as_json: bool,
     **train: Any,
 ) -> None:
-    """Find the smallest base radius (and offset) meeting the pressure-angle and curvature limits.
+    """Find the smallest base radius (offset, linkage) meeting pressure-angle and curvature limits.
 
-    Every other dimension and the motion are kept; every cam of the design is checked
-    (both cams of a conjugate pair). With --jump-margin, also the return spring of a
+    The motion is kept; every cam of the design is checked (both cams of a conjugate
+    pair). A translating roller follower's offset is chosen with --optimise-offset; an
+    oscillating follower's pivot distance (and arm length) with --linkage pivot (or
+    scale); every other dimension is kept. With --jump-margin, also the return spring of a
     force-closed follower for that margin over the running speed (--rpm).
     """
 
@@ -151,6 +176,7 @@ def size(
             cutter_radius_mm=cutter_radius_mm,
             optimise_offset=optimise_offset,
             step_deg=step_deg,
+            linkage=linkage,
         )
         if as_json:
             doc = sizing_json(r)
@@ -165,16 +191,26 @@ def size(
         )
         if r.offset_mm is not None:
             click.echo(f"offset e           {r.offset_mm:.3f} mm (smallest max |φ|)")
+        how = {"pivot": "smallest max |φ|", "scale": "scaled with r_b"}.get(r.linkage, "")
+        for key, value in r.dimensions_mm.items():
+            given = r.given_dimensions_mm[key]
+            note = "kept" if value == given else how
+            click.echo(
+                f"{_DIMENSION_NAMES.get(key, key):<18} {value:.3f} mm ({note}; given {given:g} mm)"
+            )
         click.echo(f"limited by         {r.limiting}")
         for c in r.cams:
             name = f"cam {c.label}" if c.label else "cam"
             click.echo(
                 f"{name:<18} max |φ| {c.max_abs_pressure_angle_deg:.2f}°; min convex ρ"
-                f" {c.min_convex_radius_mm:.3f} mm"
+                f" {c.min_convex_radius_mm:.4g} mm"
+            )
+            click.echo(
+                " " * 19
                 + (
-                    f"; min concave ρ {c.min_concave_radius_mm:.3f} mm"
+                    f"min concave ρ {c.min_concave_radius_mm:.4g} mm"
                     if math.isfinite(c.min_concave_radius_mm)
-                    else "; no concave stretch"
+                    else "no concave stretch"
                 )
             )
         if spring is not None:

@@ -71,6 +71,7 @@ from camtol.config.examples import parse_toml as _parse_toml
 from camtol.design.cam_design import CamDesign, ToleranceSpec
 from camtol.design.motion import (
     MOTION_LAWS,
+    RETIRED_LAWS,
     LiftTable,
     MotionProgram,
     Segment,
@@ -79,10 +80,12 @@ from camtol.design.motion import (
 from camtol.design.sources import DESIGN_SOURCES
 from camtol.design.table_noise import table_resolution
 from camtol.exceptions import ConfigError, DesignError, InputFileError
+from camtol.grid import drop_closing_row, uniform_table_step
 from camtol.mechanisms import MECHANISMS, Mechanism
 from camtol.tables import read_table
 
 if TYPE_CHECKING:
+    from camtol.inspection.zone import ZoneTable
     from camtol.pair.fixture_spec import FixtureSpec
 
 __all__ = [
@@ -213,6 +216,8 @@ class SegmentSchema(_Strict):
     @field_validator("law")
     @classmethod
     def _known_law(cls, v: str | None) -> str | None:
+        if v in RETIRED_LAWS:
+            raise ValueError(RETIRED_LAWS[v])
         if v is not None and v not in MOTION_LAWS:
             raise ValueError(f"unknown motion law; allowed: {', '.join(MOTION_LAWS)}")
         return v
@@ -355,6 +360,19 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
                     (seg_lift or 0.0) * scale,
                 )
             )
+        # SegmentProgram's balance test, reported here in the user's unit (the program
+        # holds radians for an oscillating follower and cannot name the unit).
+        levels = np.cumsum([0.0] + [g.signed_height for g in segs]) / scale
+        if abs(levels[-1] * scale) > 1e-9 * max(1.0, float(np.max(np.abs(levels))) * scale):
+            rises = sum(g.height for g in segs if g.kind == "rise") / scale
+            returns = sum(g.height for g in segs if g.kind == "return") / scale
+            sym = "°" if oscillating else " mm"
+            side = "above" if levels[-1] > 0 else "below"
+            raise ConfigError(
+                f"motion.segments end {abs(levels[-1]):.6g}{sym} {side} where they start"
+                f" (rises {rises:.6g}{sym}, returns {returns:.6g}{sym}); the"
+                " rises and returns must balance over a revolution"
+            )
         return SegmentProgram(tuple(segs))
     if m.table_file is not None:
         path = Path(m.table_file)
@@ -386,12 +404,24 @@ def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndar
     col = f"lift_{unit}"
     try:
         table = read_table(path, required=["theta_deg", col], what="lift table")
+        theta, lift = table.column("theta_deg"), table.column(col)
+        # The same rules, and messages naming the line, as `camtol derive` (grid module).
+        theta, lift = drop_closing_row(
+            theta, lift, source=str(path), name=col, line_of=table.line_of
+        )
+        uniform_table_step(theta, source=str(path), line_of=table.line_of)
     except InputFileError as exc:
         detail = str(exc).removeprefix(str(path)).lstrip(":, ")
-        raise ConfigError(f"motion.table_file={str(path)!r} {detail}") from None
-    theta, lift = table.column("theta_deg"), table.column(col)
-    if theta.size > 1 and abs(theta[-1] - 360.0) < 1e-9:  # a closing 360° row repeats 0°
-        theta, lift = theta[:-1], lift[:-1]
+        sep = ", " if detail.startswith(("line ", "row ")) else " "
+        raise ConfigError(f"motion.table_file={str(path)!r}{sep}{detail}") from None
+    limit = LIFT_MAX_DEG if unit == "deg" else LIFT_MAX_MM  # as for table_lift_{unit}
+    bad = ~(np.abs(lift) <= limit)  # NaN and ±inf included
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ConfigError(
+            f"motion.table_file={str(path)!r}, line {table.line_of(i)}: {col}={lift[i]:g} is"
+            f" not allowed; give a finite lift of at most {limit:g} {unit} in size"
+        )
     return theta, lift
 
 
@@ -400,13 +430,37 @@ def _read_lift_csv(path: Path, unit: str) -> tuple[np.ndarray[Any, Any], np.ndar
 _UNIT_SUFFIXES = ("um", "deg", "mm", "m", "rad", "mrad", "in", "arcsec")
 
 
+def _takes_grade(mech: Mechanism, key: str, unit: str) -> bool:
+    """Whether source ``key`` of this follower can take an IT grade (for the allowed list).
+
+    Sources without a nominal size (a phase, an arm angle) take none, nor does a size
+    ISO 286 does not tabulate (an offset of 0): the same rule as
+    :meth:`camtol.design.cam_design.CamDesign._check_grade`, tried on IT6.
+    """
+    from camtol import iso286
+
+    try:
+        dsrc = DESIGN_SOURCES.get(key)
+        size = dsrc.nominal_size(mech, 1.0) if dsrc else mech.nominal_size(key, 1.0)
+        if unit == "mm":
+            iso286.tolerance_um("IT6", size)
+        else:
+            iso286.angle_tolerance_deg("IT6", size)
+    except (ValueError, KeyError):
+        return False
+    return True
+
+
 def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec, ...]:
     specs = []
     seen: set[str] = set()
     units = {s.key: s.unit for s in mech.sources}
     units.update({k: d.source.unit for k, d in DESIGN_SOURCES.items()})
     allowed = ", ".join(
-        f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}" for k, u in units.items()
+        f"{k} (grade) or {k}_{'um' if u == 'mm' else 'deg'}"
+        if _takes_grade(mech, k, u)
+        else f"{k}_{'um' if u == 'mm' else 'deg'}"
+        for k, u in units.items()
     )
     for name, value in raw.items():
         # the longest source key first: a pair's "r_a" is a source, "r_um" is r in µm
@@ -512,7 +566,7 @@ def _extras(top: DesignSchema) -> dict[str, object]:
     return out
 
 
-def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | None:
+def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | ZoneTable | None:
     """Return the ``[inspection]`` table as a typed, frozen spec (None when absent)."""
     if not raw:
         return None

@@ -8,7 +8,8 @@ References
 ----------
 .. [1] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed., Industrial Press,
    2009, ch. 3 (modified trapezoid and modified sine laws).
-.. [2] H. A. Rothbart (ed.), *Cam Design Handbook*, McGraw-Hill, 2004.
+.. [2] H. A. Rothbart (ed.), *Cam Design Handbook*, McGraw-Hill, 2004, ch. 3 (modified
+   constant velocity: a constant-velocity stretch entered and left by acceleration ramps).
 """
 
 from __future__ import annotations
@@ -32,12 +33,36 @@ MotionLawName = Literal[
     "polynomial_4567",
     "modified_trapezoid",
     "modified_sine",
-    "constant_velocity",
+    "modified_constant_velocity",
 ]
 MOTION_LAWS: tuple[str, ...] = get_args(MotionLawName)
 TWO_PI = 2.0 * math.pi
 
-__all__ = ["MOTION_LAWS", "MotionLawName", "NormalizedLaw", "normalized_law"]
+__all__ = [
+    "MCV_RAMP_FRACTION",
+    "MOTION_LAWS",
+    "MotionLawName",
+    "NormalizedLaw",
+    "RETIRED_LAWS",
+    "normalized_law",
+]
+
+#: Length of each of the two cycloidal ramps of ``modified_constant_velocity``, as a
+#: fraction of the segment: 1/4 in, 1/2 at constant velocity, 1/4 out (the "cycloidal
+#: CV50" of industrial practice). [-]
+MCV_RAMP_FRACTION = 0.25
+
+#: Names once listed but refused, with the reason and the law to use instead. A pure
+#: constant velocity meets a dwell, and every other law (all start and end at rest), with
+#: a velocity jump: a corner of the cam that analyze refuses, so no design could use it.
+RETIRED_LAWS: dict[str, str] = {
+    "constant_velocity": (
+        "motion law 'constant_velocity' is not allowed: a constant velocity meets a dwell or"
+        " any other law with a velocity jump (a corner of the cam); use"
+        " 'modified_constant_velocity' (constant velocity over the middle half, cycloidal"
+        " ramps of 1/4 of the segment at each end)"
+    ),
+}
 
 # ---------------------------------------------------------------------------------------
 # Normalised laws: s(x), v = ds/dx, a = d²s/dx², j = d³s/dx³, with s(0)=0, s(1)=1.
@@ -184,8 +209,24 @@ _MODIFIED_SINE = _piecewise_sine_law(
 )
 
 
-def _constant_velocity(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    return x.copy(), np.ones_like(x), np.zeros_like(x), np.zeros_like(x)
+def _modified_constant_velocity(ramp: float) -> NormalizedLaw:
+    """Constant velocity blended into rest by half-cycloid ramps of ``ramp`` each ([2]).
+
+    The acceleration is a half sine wave over [0, r], zero over [r, 1 − r] (constant
+    velocity 1/(1 − r)) and a negative half sine wave over [1 − r, 1]: S, V and A are
+    continuous everywhere, at rest at both ends (so the law meets a dwell or any other
+    law without a jump of V or A), and J jumps at the four ramp ends, as the cycloidal
+    law's does at its two. Peak factors: V = 1/(1 − r), A = π/(2r(1 − r)); r = 1/2 is the
+    cycloidal law itself.
+    """
+    k = math.pi / ramp
+    return _piecewise_sine_law(
+        [
+            (0.0, 0.0, 1.0, k, 0.0),
+            (ramp, 0.0, 0.0, 0.0, 0.0),
+            (1.0 - ramp, 0.0, -1.0, k, -k * (1.0 - ramp)),
+        ]
+    )
 
 
 _LAWS: dict[str, NormalizedLaw] = {
@@ -195,7 +236,7 @@ _LAWS: dict[str, NormalizedLaw] = {
     "polynomial_4567": _polynomial([0, 0, 0, 0, 35, -84, 70, -20]),
     "modified_trapezoid": _MODIFIED_TRAPEZOID,
     "modified_sine": _MODIFIED_SINE,
-    "constant_velocity": _constant_velocity,
+    "modified_constant_velocity": _modified_constant_velocity(MCV_RAMP_FRACTION),
 }
 
 
@@ -215,6 +256,8 @@ def normalized_law(name: str) -> NormalizedLaw:
     try:
         return _LAWS[name]
     except KeyError:
+        if name in RETIRED_LAWS:
+            raise DesignError(RETIRED_LAWS[name]) from None
         raise DesignError(
             f"motion law {name!r} is unknown; allowed: {', '.join(MOTION_LAWS)}"
         ) from None

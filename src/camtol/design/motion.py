@@ -32,7 +32,13 @@ from typing import Literal, get_args
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from camtol.design.laws import MOTION_LAWS, MotionLawName, NormalizedLaw, normalized_law
+from camtol.design.laws import (
+    MOTION_LAWS,
+    RETIRED_LAWS,
+    MotionLawName,
+    NormalizedLaw,
+    normalized_law,
+)
 from camtol.exceptions import DesignError
 from camtol.grid import ordered_segment_runs, run_bounds
 
@@ -48,6 +54,7 @@ _COMPARED_ANGLES = 8192
 
 __all__ = [
     "MOTION_LAWS",
+    "RETIRED_LAWS",
     "LiftTable",
     "MotionLawName",
     "NormalizedLaw",

@@ -2,9 +2,15 @@
 
 :func:`cut_study` is what ``camtol cut`` computes, for the Python API too: the cam chosen
 by its letter, every cutting step simulated (:func:`~camtol.manufacturing.cutting.simulate_cut`),
-the coarsest candidate step meeting a lift tolerance or an acceleration budget
-(:func:`~camtol.manufacturing.cutting.coarsest_cut_step`), and, when asked, the lift
-errors of every step on one common reading grid for a CSV.
+the coarsest of those steps meeting a lift tolerance or an acceleration budget (chosen
+among the steps the user listed, judged on the same simulations as the table, so the
+recommendation is always a row of it), and, when asked, the lift errors of every step on
+one common reading grid for a CSV.
+
+A lift tolerance is in the follower's own unit and says so: µm for a translating
+follower, degrees for an oscillating one (``lift_tolerance_unit``); the other unit is
+refused rather than converted, because a tolerance typed in µm for an arm angle (or in
+degrees for a slide) is a mistake, not a request.
 """
 
 from __future__ import annotations
@@ -18,7 +24,12 @@ from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.grid import check_step
 from camtol.jet import FloatArray
-from camtol.manufacturing.cutting import CutResult, ToolKind, coarsest_cut_step, simulate_cut
+from camtol.manufacturing.cutting import (
+    CutResult,
+    ToolKind,
+    max_abs_acceleration,
+    simulate_cut,
+)
 
 __all__ = ["CutStudy", "CutStudyInputs", "cut_study"]
 
@@ -40,8 +51,11 @@ class CutStudyInputs:
     cam : str
         The cam's letter (``A``; ``B`` of a conjugate pair).
     lift_tolerance : float, optional
-        Largest lift error for the coarsest-step search, in the follower's display unit:
-        µm for a translating follower, degrees for an oscillating one.
+        Largest lift error for the coarsest-step search, in ``lift_tolerance_unit``.
+    lift_tolerance_unit : {"um", "deg"}, optional
+        The unit the tolerance was given in: ``"um"`` (translating follower, lift in
+        µm) or ``"deg"`` (oscillating follower, arm angle in degrees); None takes the
+        follower's own. A unit that does not fit the follower is refused.
     accel_budget_pct : float, optional
         Largest acceleration error for that search, in % of the nominal peak. [%]
     curves : bool
@@ -56,6 +70,7 @@ class CutStudyInputs:
     lift_tolerance: float | None = None
     accel_budget_pct: float | None = None
     curves: bool = False
+    lift_tolerance_unit: str | None = None
 
     def __post_init__(self) -> None:
         for s in self.cut_steps_deg:
@@ -96,7 +111,8 @@ class CutStudy:
     results : tuple of CutResult
         One per cutting step, in the order asked.
     coarsest_cut_step_deg : float or None
-        The coarsest candidate step meeting the criteria (None: none does, or none asked).
+        The coarsest of the listed cutting steps meeting the criteria (None: none does,
+        or none asked). [deg]
     curves_theta_deg : ndarray or None
         The common reading grid of :attr:`curves_lift_error`. [deg]
     curves_lift_error : tuple of ndarray
@@ -111,6 +127,25 @@ class CutStudy:
     coarsest_cut_step_deg: float | None
     curves_theta_deg: FloatArray | None = None
     curves_lift_error: tuple[FloatArray, ...] = ()
+
+
+def _check_tolerance_unit(inputs: CutStudyInputs, oscillating: bool) -> None:
+    """Refuse a lift tolerance in the other follower kind's unit (µm vs degrees)."""
+    unit = inputs.lift_tolerance_unit
+    if inputs.lift_tolerance is None or unit is None:
+        return
+    if unit not in ("um", "deg"):
+        raise DesignError(f"lift_tolerance_unit={unit!r} is not allowed; allowed: um, deg")
+    if oscillating and unit == "um":
+        raise DesignError(
+            f"--lift-tolerance-um={inputs.lift_tolerance:g} is not allowed: the follower"
+            " oscillates and its lift is an arm angle; give --lift-tolerance-deg DEG"
+        )
+    if not oscillating and unit == "deg":
+        raise DesignError(
+            f"--lift-tolerance-deg={inputs.lift_tolerance:g} is not allowed: the follower"
+            " translates and its lift is a length; give --lift-tolerance-um UM"
+        )
 
 
 def cut_study(design: CamDesign, inputs: CutStudyInputs) -> CutStudy:
@@ -130,12 +165,14 @@ def cut_study(design: CamDesign, inputs: CutStudyInputs) -> CutStudy:
     Raises
     ------
     DesignError
-        A cam the design does not have.
+        A cam the design does not have, or a lift tolerance in the other follower
+        kind's unit.
     GeometryError, UndercutError
         A tool that cannot cut the profile.
     """
     one = design.cam(inputs.cam)
     cam = one.design
+    _check_tolerance_unit(inputs, cam.mechanism.output == "oscillating")
     radius = inputs.tool_radius_mm or 0.0
     results = tuple(
         simulate_cut(
@@ -151,13 +188,9 @@ def cut_study(design: CamDesign, inputs: CutStudyInputs) -> CutStudy:
             tol = (
                 math.radians(inputs.lift_tolerance) if oscillating else inputs.lift_tolerance * 1e-3
             )
-        coarsest = coarsest_cut_step(
-            cam,
-            tool=inputs.tool,
-            tool_radius_mm=radius,
-            lift_tolerance=tol,
-            accel_budget_pct=inputs.accel_budget_pct,
-        )
+        a_max = max_abs_acceleration(cam)
+        good = [r.cut.cut_step_deg for r in results if r.meets(a_max, tol, inputs.accel_budget_pct)]
+        coarsest = max(good) if good else None
     theta = None
     errors: tuple[FloatArray, ...] = ()
     if inputs.curves:

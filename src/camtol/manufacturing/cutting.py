@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal, get_args
 
 import numpy as np
@@ -62,6 +62,7 @@ __all__ = [
     "coarsest_cut_step",
     "cut_cam",
     "default_read_step_deg",
+    "max_abs_acceleration",
     "simulate_cut",
 ]
 
@@ -131,6 +132,13 @@ class CutResult:
         ρ δ_n²/8 at each cusp (ρ of the profile at the cusp's foot point). [mm]
     oscillating : bool
         True when the lift is an angle (errors in rad internally, deg in reports).
+    velocity_jump : ndarray
+        The follower's velocity jump V(θ⁺) − V(θ⁻) at each change of the contact feature
+        between consecutive readings (a cusp or vertex passed): an acceleration impulse of
+        that size. Estimated from the one-sided values either side, V_k+1 − V_k −
+        (A_k + A_k+1)h/2, exact to O(h²). [per rad]
+    jump_theta_rad : ndarray
+        Where each jump happens (midway between the two readings). [rad]
     """
 
     cut: CutCam
@@ -143,6 +151,39 @@ class CutResult:
     scallop_height_mm: FloatArray
     rule_mm: FloatArray
     oscillating: bool
+    velocity_jump: FloatArray = field(default_factory=lambda: np.zeros(0))
+    jump_theta_rad: FloatArray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def max_velocity_jump(self) -> float:
+        """Largest |velocity jump| at a cusp (0 when the contact never switches). [per rad]"""
+        return float(np.max(np.abs(self.velocity_jump))) if self.velocity_jump.size else 0.0
+
+    def meets(
+        self, a_max: float, lift_tolerance: float | None, accel_budget_pct: float | None
+    ) -> bool:
+        """Whether this cut meets a lift tolerance and/or a second-difference A budget.
+
+        Parameters
+        ----------
+        a_max : float
+            The design's max |A|, the reference of the budget. [per rad²]
+        lift_tolerance : float, optional
+            Largest |lift error|. [mm, or rad for an oscillating follower]
+        accel_budget_pct : float, optional
+            Largest |A_central − A| in percent of ``a_max``. [%]
+
+        Returns
+        -------
+        bool
+        """
+        good = True
+        if lift_tolerance is not None:
+            good &= float(np.max(np.abs(self.lift_error))) <= lift_tolerance
+        if accel_budget_pct is not None:
+            worst = float(np.max(np.abs(self.central_acceleration_error)))
+            good &= worst <= accel_budget_pct / 100.0 * a_max
+        return good
 
     @property
     def lift_error_display(self) -> FloatArray:
@@ -153,6 +194,23 @@ class CutResult:
     def lift_error_unit(self) -> str:
         """``"um"`` or ``"deg"``."""
         return "deg" if self.oscillating else "um"
+
+
+def max_abs_acceleration(design: CamDesign) -> float:
+    """Return the design's max |A| on a 0.1° grid, the reference of an acceleration budget.
+
+    Parameters
+    ----------
+    design : CamDesign
+        A single-cam design.
+
+    Returns
+    -------
+    float
+        max |A|. [mm/rad², or rad/rad² for an oscillating follower]
+    """
+    fine = np.linspace(0.0, TWO_PI, 3600, endpoint=False)
+    return float(np.max(np.abs(design.program.evaluate(fine).acceleration)))
 
 
 def default_read_step_deg(cut_step_deg: float) -> float:
@@ -340,7 +398,14 @@ def simulate_cut(
     motion = follow(cut.shape, design.mechanism, theta)
     err = motion.lift - nominal.lift
     s = motion.lift
+    # Across a cusp the velocity jumps by ΔV, so the second difference there reads
+    # ΔV/h: it grows as the reading step shrinks (the "A error" of a kink, not of the
+    # curve). The jumps are reported with their size beside it.
     a_central = (np.roll(s, 1) + np.roll(s, -1) - 2.0 * s) / h**2
+    v, a = motion.velocity, motion.acceleration
+    switch = np.flatnonzero(motion.feature != np.roll(motion.feature, -1))
+    nxt = (switch + 1) % m
+    jump = v[nxt] - v[switch] - 0.5 * (a[switch] + a[nxt]) * h
     scallop, rule = _scallops(design, cut)
     return CutResult(
         cut=cut,
@@ -353,6 +418,8 @@ def simulate_cut(
         scallop_height_mm=scallop,
         rule_mm=rule,
         oscillating=design.mechanism.output == "oscillating",
+        velocity_jump=jump,
+        jump_theta_rad=theta[switch] + 0.5 * h,
     )
 
 
@@ -401,21 +468,14 @@ def coarsest_cut_step(
     for name, val in (("lift tolerance", lift_tolerance), ("accel_budget_pct", accel_budget_pct)):
         if val is not None and not (math.isfinite(val) and val > 0):
             raise DesignError(f"{name}={val:g} is not allowed; give a positive value")
-    fine = np.linspace(0.0, TWO_PI, 3600, endpoint=False)
-    a_max = float(np.max(np.abs(design.program.evaluate(fine).acceleration)))
+    a_max = max_abs_acceleration(design)
 
     def ok(step: float) -> bool:
         try:
             r = simulate_cut(design, step, tool=tool, tool_radius_mm=tool_radius_mm)
         except GeometryError:
             return False
-        good = True
-        if lift_tolerance is not None:
-            good &= float(np.max(np.abs(r.lift_error))) <= lift_tolerance
-        if accel_budget_pct is not None:
-            worst = float(np.max(np.abs(r.central_acceleration_error)))
-            good &= worst <= accel_budget_pct / 100.0 * a_max
-        return good
+        return r.meets(a_max, lift_tolerance, accel_budget_pct)
 
     steps = sorted(float(c) for c in candidates)
     lo, hi, best = 0, len(steps) - 1, None

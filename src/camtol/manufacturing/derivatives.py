@@ -23,11 +23,27 @@ The smoothing parameter (λ, or the window) is chosen by generalised cross-valid
 estimate RSS/n + 2σ² tr H/n. The noise amplification of each output is the rms gain of its
 linear operator for white lift noise (Parseval: √(mean |m_k|²) for a Fourier multiplier
 m_k, √Σ c_j² for filter coefficients c).
+
+Smoothing also biases A: a smoother of multiplier M_k estimates A with the error
+(M − D)ŝ on the true lift s, D_k being the exact A of the periodic cubic interpolant
+(:class:`camtol.design.motion.LiftTable`). The noise gain says nothing of it, and a window
+chosen by cross-validation for the *lift* leaves a bias in A of the size of its noise or
+larger (issue 32: the Savitzky-Golay noise-only figure was a third of the actual error).
+The bias is estimated by the plug-in rule with the cross-validated smoothing spline P as a
+stand-in for s, its own noise taken out:
+
+.. math:: \hat b^2 = \operatorname{mean}\big((M - D) P \hat y\big)^2
+          - σ̂^2 \operatorname{mean}|(M - D) P|^2,
+
+and the stated uncertainty of A is √(noise² + b̂²) (:attr:`DerivedMotion.acceleration_uncertainty`).
+The stand-in cannot show what P itself smooths away (jerk jumps at segment ends, say), so
+b̂ errs low rather than high; docs/theory.md §6.1 gives the measured figures.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal, get_args
 
@@ -45,6 +61,9 @@ SMOOTHING_METHODS: tuple[str, ...] = get_args(SmoothingMethod)
 TWO_PI = 2.0 * math.pi
 #: Polynomial order of the Savitzky-Golay filter (cubic: gives S, V, A and J). [-]
 SAVGOL_ORDER = 3
+#: Largest |lift| accepted: far beyond any cam (1 km, or 10⁶°), and small enough that
+#: sums of squares over any table stay finite (5e200 would overflow them). [mm or deg]
+LIFT_LIMIT = 1e6
 
 
 @dataclass(frozen=True)
@@ -74,6 +93,8 @@ class DerivedMotion:
         σ̂ = √(RSS/(n − tr H)), or the given σ. [lift unit]
     gains : tuple of float
         rms output per unit rms white lift noise for (S, V, A, J). [1/rad^k]
+    acceleration_bias : float
+        Estimated rms bias of A from the smoothing (module docstring). [lift unit/rad²]
     """
 
     theta_rad: FloatArray
@@ -89,11 +110,17 @@ class DerivedMotion:
     residual_rms: float
     noise_estimate: float
     gains: tuple[float, float, float, float]
+    acceleration_bias: float = 0.0
+
+    @property
+    def acceleration_noise(self) -> float:
+        """1σ noise of A implied by the noise estimate: gain_A · σ̂. [lift unit/rad²]"""
+        return self.gains[2] * self.noise_estimate
 
     @property
     def acceleration_uncertainty(self) -> float:
-        """1σ noise of A implied by the noise estimate: gain_A · σ̂. [lift unit/rad²]"""
-        return self.gains[2] * self.noise_estimate
+        """Uncertainty of A (1σ), noise and smoothing bias: √(noise² + bias²). [lift unit/rad²]"""
+        return math.hypot(self.acceleration_noise, self.acceleration_bias)
 
 
 def _spline_multipliers(n: int, h: float) -> tuple[FloatArray, ...]:
@@ -116,6 +143,53 @@ def _rms_gain(mult: ArrayLike) -> float:
     return float(np.sqrt(np.mean(np.abs(np.asarray(mult)) ** 2)))
 
 
+def _select_lambda(y_hat: np.ndarray, k: FloatArray, h: float, noise: float | None) -> float:
+    """λ of the smoothing spline by GCV, or by the unbiased risk when σ is given. [rad³]"""
+    n = y_hat.size
+    # Scan λ on a log grid in units of Δθ³ (the penalty's natural scale).
+    grid = h**3 * np.logspace(-6.0, 14.0, 241)
+    filt = 1.0 / (1.0 + grid[:, None] * k[None, :])
+    rss = np.sum(np.abs((1.0 - filt) * y_hat[None, :]) ** 2, axis=1) / n
+    tr = np.sum(filt, axis=1)
+    if noise is None:
+        score = n * rss / np.maximum(n - tr, 1e-9) ** 2
+    else:
+        score = rss / n + 2.0 * noise**2 * tr / n
+    return float(grid[int(np.argmin(score))])
+
+
+def _acceleration_bias(
+    y: FloatArray, h: float, multiplier: np.ndarray, sigma: float, noise: float | None
+) -> float:
+    """Plug-in rms bias of an A estimate of Fourier multiplier M (module docstring).
+
+    Parameters
+    ----------
+    y : ndarray
+        The lift samples. [lift unit]
+    h : float
+        Sample step Δθ. [rad]
+    multiplier : ndarray
+        M_k of the A estimate (complex, length n). [1/rad²]
+    sigma : float
+        Lift noise σ̂ (estimated or given). [lift unit]
+    noise : float, optional
+        The given noise, which chooses the stand-in's λ as it chose the estimate's.
+
+    Returns
+    -------
+    float
+        b̂ ≥ 0. [lift unit/rad²]
+    """
+    k, _, a_exact, _ = _spline_multipliers(y.size, h)
+    y_hat = np.fft.fft(y)
+    pilot = 1.0 / (1.0 + _select_lambda(y_hat, k, h, noise) * k)
+    diff = (np.asarray(multiplier) - a_exact) * pilot
+    b2 = float(np.mean(np.abs(diff * y_hat) ** 2)) / y.size  # Parseval: mean of the signal²
+    b2 -= sigma**2 * float(np.mean(np.abs(diff) ** 2))
+    return math.sqrt(max(b2, 0.0))
+
+
 def _spline(
     y: FloatArray, h: float, lam: float | None, noise: float | None
 ) -> tuple[FloatArray, tuple[FloatArray, ...], float, str, float, tuple[float, ...]]:
@@ -123,16 +197,7 @@ def _spline(
     k, v, a, j = _spline_multipliers(n, h)
     y_hat = np.fft.fft(y)
     if lam is None:
-        # Scan λ on a log grid in units of Δθ³ (the penalty's natural scale).
-        grid = h**3 * np.logspace(-6.0, 14.0, 241)
-        filt = 1.0 / (1.0 + grid[:, None] * k[None, :])
-        rss = np.sum(np.abs((1.0 - filt) * y_hat[None, :]) ** 2, axis=1) / n
-        tr = np.sum(filt, axis=1)
-        if noise is None:
-            score = n * rss / np.maximum(n - tr, 1e-9) ** 2
-        else:
-            score = rss / n + 2.0 * noise**2 * tr / n
-        lam = float(grid[int(np.argmin(score))])
+        lam = _select_lambda(y_hat, k, h, noise)
         selection = "gcv" if noise is None else "noise"
     else:
         selection = "given"
@@ -188,6 +253,7 @@ def derive_lift(
     smoothing: float | None = None,
     noise: float | None = None,
     source: str = "lift table",
+    line_of: Callable[[int], int] | None = None,
 ) -> DerivedMotion:
     """Smooth a lift over one revolution and differentiate it (module docstring).
 
@@ -207,6 +273,9 @@ def derive_lift(
         Known rms noise of the lift (e.g. the indicator's resolution). [lift unit]
     source : str
         Name of the data, for messages.
+    line_of : callable, optional
+        Maps a row index to its line in the file, for messages
+        (:meth:`camtol.tables.Table.line_of`).
 
     Returns
     -------
@@ -216,9 +285,10 @@ def derive_lift(
     Raises
     ------
     InputFileError
-        Angles with a gap, a repeat or an unequal step.
+        Angles with a gap, a repeat, a decrease or an unequal step, or not one revolution.
     DesignError
-        Unknown method, non-finite lifts, or a smoothing parameter out of range.
+        Unknown method, non-finite lifts or lifts beyond :data:`LIFT_LIMIT`, or a
+        smoothing parameter out of range.
 
     Examples
     --------
@@ -234,10 +304,16 @@ def derive_lift(
     y = np.asarray(lift, dtype=float)
     if t.shape != y.shape or t.ndim != 1:
         raise DesignError(f"{source}: angles and lifts must be two columns of equal length")
-    if not np.all(np.isfinite(y)):
-        i = int(np.argmax(~np.isfinite(y)))
-        raise DesignError(f"{source}: lift at {t[i]:g}° is not a finite number")
-    step_deg, n = uniform_table_step(t, source=source)
+    step_deg, n = uniform_table_step(t, source=source, line_of=line_of)
+    bad = ~(np.abs(y) <= LIFT_LIMIT)  # NaN and ±inf included
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        line = line_of(i) if line_of is not None else 0
+        where = f"line {line}" if line > 0 else f"row {i + 1}"
+        raise DesignError(
+            f"{source}, {where}: lift {y[i]:g} at {t[i]:g}° is not allowed; give a finite"
+            f" lift of at most {LIFT_LIMIT:g} in size"
+        )
     if n < 16:
         raise DesignError(f"{source}: {n} samples is too few to differentiate; give at least 16")
     for name, val in (("smoothing", smoothing), ("noise", noise)):
@@ -254,8 +330,25 @@ def derive_lift(
             )
         window = None if smoothing is None else int(smoothing)
         g, (v, a, j), par, sel, dof, gains = _savgol(y, h, window, noise)
+    if method == "spline":  # the A multiplier of the estimate, for its bias
+        penalty, _, a_knots, _ = _spline_multipliers(n, h)
+        mult_a: np.ndarray = a_knots / (1.0 + par * penalty)
+    else:
+        from scipy.signal import savgol_filter
+
+        impulse = np.zeros(n)
+        impulse[0] = 1.0  # the wrapped filter is circulant: its response to δ is its kernel
+        mult_a = np.fft.fft(
+            savgol_filter(impulse, int(par), SAVGOL_ORDER, deriv=2, delta=h, mode="wrap")
+        )
     rss = float(np.sum((y - g) ** 2))
+    if not (math.isfinite(rss) and all(np.all(np.isfinite(o)) for o in (g, v, a, j))):
+        raise DesignError(  # cannot happen within LIFT_LIMIT; never report inf as a result
+            f"{source}: the smoothed lift or its derivatives are not finite; give lifts of"
+            f" at most {LIFT_LIMIT:g} in size"
+        )
     sigma = noise if noise is not None else math.sqrt(rss / max(n - dof, 1.0))
+    bias = _acceleration_bias(y, h, mult_a, sigma, noise)
     return DerivedMotion(
         theta_rad=np.radians(t),
         lift_measured=y,
@@ -270,4 +363,5 @@ def derive_lift(
         residual_rms=math.sqrt(rss / n),
         noise_estimate=sigma,
         gains=(gains[0], gains[1], gains[2], gains[3]),
+        acceleration_bias=bias,
     )

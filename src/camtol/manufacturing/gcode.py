@@ -57,6 +57,9 @@ TWO_PI = 2.0 * math.pi
 _FIT_SHARE = 0.8
 #: Interior points per interval at which the fit is verified. [-]
 _CHECKS = 9
+#: Largest feed (mm/min) or lead radius (mm) accepted: far above any machine, so only a
+#: mistyped exponent is refused.
+MAX_FEED_OR_LEAD = 1e6
 
 
 @dataclass(frozen=True)
@@ -111,6 +114,12 @@ class GcodeProgram:
         Offset of the path from the profile (tool radius; wire radius + spark gap). [mm]
     max_fit_deviation_mm : float
         Largest deviation found by the fit's verification. [mm]
+    feed_mm_min : float
+        Cutting feed. [mm/min]
+    lead_radius_mm : float
+        Radius of the lead-in and lead-out arcs. [mm]
+    safe_z_mm, cut_z_mm, plunge_feed_mm_min : float or None
+        The Z moves (None for a 2D contour). [mm, mm, mm/min]
     """
 
     text: str
@@ -119,6 +128,11 @@ class GcodeProgram:
     tolerance_mm: float
     tool_radius_mm: float
     max_fit_deviation_mm: float
+    feed_mm_min: float = 0.0
+    lead_radius_mm: float = 0.0
+    safe_z_mm: float | None = None
+    cut_z_mm: float | None = None
+    plunge_feed_mm_min: float | None = None
 
     @property
     def blocks(self) -> int:
@@ -266,22 +280,85 @@ def _decimals(tol: float) -> int:
     return max(3, min(8, math.ceil(-math.log10(0.02 * tol / math.sqrt(2.0)))))
 
 
+def _lead_arcs(
+    design: CamDesign, r: float, lead_mm: float
+) -> tuple[tuple[float, float], tuple[float, float], tuple[float, float], bool]:
+    """Lead-in start, lead-out end, common centre, and ccw, of the 90° lead arcs at θ = 0.
+
+    Both arcs lie on one circle of radius ``lead_mm`` tangent to the cutter path at its start
+    P0, on the outer side (centre C = P0 + ρ_l N0): the lead-in runs a quarter turn onto P0
+    arriving along the path's tangent T0, the lead-out a quarter turn off it, so the tool
+    enters and leaves the contour tangentially and never dwells on it. Refused when the
+    circle would cross into the cam (a concave start tighter than the lead radius).
+    """
+    p = profile_path(design, np.array([0.0]), offset_mm=r)
+    px, py = float(p.x_mm[0]), float(p.y_mm[0])
+    nx, ny = float(p.normal_x[0]), float(p.normal_y[0])  # outward (away from the cam)
+    tx, ty = float(p.tx[0]), float(p.ty[0])  # direction of travel (θ growing)
+    cx, cy = px + lead_mm * nx, py + lead_mm * ny
+    ccw = (ny * tx - nx * ty) > 0.0  # ccw about C moves along rot90(−N0) at P0
+    start = (cx - lead_mm * tx, cy - lead_mm * ty)
+    end = (cx + lead_mm * tx, cy + lead_mm * ty)
+    # The arcs must stay outside the cutter path (else the tool cuts into the cam).
+    theta = np.linspace(0.0, TWO_PI, 7200, endpoint=False)
+    ring = profile_path(design, theta, offset_mm=r)
+    phi = np.linspace(0.02, 0.5 * math.pi, 64)  # from near P0 out to each arc's far end
+    rad = -np.array([nx, ny])
+    tan = np.array([tx, ty])
+    pts = [
+        np.column_stack(
+            [
+                cx + lead_mm * (rad[0] * np.cos(phi) + s * tan[0] * np.sin(phi)),
+                cy + lead_mm * (rad[1] * np.cos(phi) + s * tan[1] * np.sin(phi)),
+            ]
+        )
+        for s in (-1.0, 1.0)
+    ]
+    q = np.concatenate(pts)
+    dx = ring.x_mm[None, :] - q[:, :1]
+    dy = ring.y_mm[None, :] - q[:, 1:]
+    ang = np.arctan2(dy, dx)
+    winding = np.sum(np.mod(np.diff(ang, append=ang[:, :1], axis=1) + math.pi, TWO_PI) - math.pi, 1)
+    if np.any(np.abs(winding) > math.pi):
+        raise GeometryError(
+            f"lead radius {lead_mm:g} mm is not allowed: the lead-in/lead-out arcs at θ=0°"
+            " would cut into the cam (the cutter path curves back there); give a smaller"
+            " --lead-radius"
+        )
+    return start, end, (cx, cy), bool(ccw)
+
+
 def write_gcode(
     design: CamDesign,
     *,
+    feed_mm_min: float,
     tool_radius_mm: float | None = None,
     tolerance_mm: float = 1e-3,
     mode: GcodeMode = "arcs",
     wire_radius_mm: float | None = None,
     spark_gap_mm: float = 0.0,
-    feed_mm_min: float = 100.0,
+    lead_radius_mm: float | None = None,
+    safe_z_mm: float | None = None,
+    cut_z_mm: float | None = None,
+    plunge_feed_mm_min: float | None = None,
 ) -> GcodeProgram:
     """Build the G-code program of the cutter-centre path (THEORY §6).
+
+    The program a machine runs: a header stating the units (G21), plane (G17), absolute
+    mode (G90), cutter compensation off (G40, the path is already the cutter centre) and
+    feed per minute (G94), the tool, the tolerance and the frame; per cam a rapid to the
+    lead-in start, a 90° lead-in arc onto the contour at θ = 0 with the feed, the closed
+    contour, a 90° lead-out arc off it; ``M30`` at the end. By default a 2D contour with no
+    Z words (the header says so: the machinist sets the depth); with ``safe_z_mm`` and
+    ``cut_z_mm`` the program retracts to the safe height, rapids over the start, plunges at
+    ``plunge_feed_mm_min`` and retracts after the lead-out.
 
     Parameters
     ----------
     design : CamDesign
         The design (both cams of a conjugate pair, one contour each).
+    feed_mm_min : float
+        Cutting feed rate, on the lead-in block (modal for the contour). [mm/min]
     tool_radius_mm : float, optional
         Cutter radius R (milling, grinding). Give this or ``wire_radius_mm``. [mm]
     tolerance_mm : float
@@ -292,8 +369,14 @@ def write_gcode(
         Wire-EDM contour: wire radius; the offset is wire radius + spark gap. [mm]
     spark_gap_mm : float
         Wire-EDM spark gap (overcut per side). [mm]
-    feed_mm_min : float
-        Feed rate written on the first cutting block. [mm/min]
+    lead_radius_mm : float, optional
+        Radius of the lead-in and lead-out arcs (default: the tool offset, at least
+        1 mm). [mm]
+    safe_z_mm, cut_z_mm : float, optional
+        Retract height and cutting depth, given together for a program with Z moves; the
+        safe height must lie above the cutting depth. [mm]
+    plunge_feed_mm_min : float, optional
+        Feed of the plunge to ``cut_z_mm`` (required with Z moves). [mm/min]
 
     Returns
     -------
@@ -302,9 +385,11 @@ def write_gcode(
     Raises
     ------
     DesignError
-        Missing or conflicting tool options, values out of range.
+        Missing or conflicting tool or Z options, values out of range.
     UndercutError
         The tool radius exceeds a concave radius of curvature (it would gouge; says where).
+    GeometryError
+        Lead arcs that would cut into the cam.
     """
     from camtol._version import __version__
 
@@ -321,10 +406,33 @@ def write_gcode(
         ("tool_radius_mm", tool_radius_mm),
         ("wire_radius_mm", wire_radius_mm),
         ("spark_gap_mm", spark_gap_mm),
-        ("feed_mm_min", feed_mm_min),
     ):
         if val is not None and not (math.isfinite(val) and val >= 0):
             raise DesignError(f"{name}={val:g} is not allowed; give a length ≥ 0")
+    for name, val in (
+        ("feed_mm_min", feed_mm_min),
+        ("plunge_feed_mm_min", plunge_feed_mm_min),
+        ("lead_radius_mm", lead_radius_mm),
+    ):
+        if val is not None and not (math.isfinite(val) and 0 < val <= MAX_FEED_OR_LEAD):
+            raise DesignError(
+                f"{name}={val:g} is not allowed; give a positive value up to"
+                f" {MAX_FEED_OR_LEAD:g} (mm/min or mm)"
+            )
+    if (safe_z_mm is None) != (cut_z_mm is None):
+        raise DesignError("Z moves need both --safe-z MM and --cut-z MM (or neither: 2D)")
+    with_z = safe_z_mm is not None and cut_z_mm is not None
+    if with_z:
+        assert safe_z_mm is not None and cut_z_mm is not None
+        if not (math.isfinite(safe_z_mm) and math.isfinite(cut_z_mm) and safe_z_mm > cut_z_mm):
+            raise DesignError(
+                f"--safe-z={safe_z_mm:g} is not allowed; the safe height must lie above the"
+                f" cutting depth --cut-z={cut_z_mm:g} mm"
+            )
+        if plunge_feed_mm_min is None:
+            raise DesignError("a program with Z moves needs --plunge-feed MM_PER_MIN")
+    elif plunge_feed_mm_min is not None:
+        raise DesignError("--plunge-feed is for a program with Z moves: give --safe-z and --cut-z")
     offset = (tool_radius_mm or 0.0) + (wire_radius_mm or 0.0) + spark_gap_mm
     if offset > MAX_TOOL_RADIUS_MM:
         raise DesignError(
@@ -341,43 +449,88 @@ def write_gcode(
         assert tool_radius_mm is not None
         r = tool_radius_mm
         tool = f"cylindrical cutter, radius {r:g} mm"
-    paths, worst = [], 0.0
+    lead = lead_radius_mm if lead_radius_mm is not None else max(r, 1.0)
+    paths, leads, worst = [], [], 0.0
     for label, cam in single_cams(design):
         check_gouge(cam, r)
         path, dev = _fit(cam, r, tolerance_mm, mode, label)
         paths.append(path)
+        leads.append(_lead_arcs(cam, r, lead))
         worst = max(worst, dev)
     k = _decimals(tolerance_mm)
     kind = "G02/G03 biarcs, tangent-continuous" if mode == "arcs" else "G01 chords"
+    name = design.name.replace("(", "[").replace(")", "]")
     lines = [
         "%",
         f"(camtol {__version__}: cutter-centre path of a disk cam)",
-        f"(design: {design.name.replace('(', '[').replace(')', ']')})",
+        f"(design: {name})",
         f"(tool: {tool})",
+        f"(cutter compensation: off; the path is the cutter centre, offset {r:g} mm)",
         f"(tolerance: {tolerance_mm * 1e3:g} um from the analytic cutter path; {kind})",
         f"(fit: max deviation {worst * 1e3:.4g} um before rounding to {k} decimals)",
-        "(coordinates: absolute mm, cam frame X-Y of camtol THEORY 0, origin at the cam pivot;"
-        " counterclockwise around the cam)",
-        "G21 G90 G17 G40 G94",
+        "(coordinates: absolute mm, cam frame X-Y of camtol THEORY 0, origin at the cam pivot)",
+        "(contour: counterclockwise around the cam)",
+        f"(lead-in, lead-out: 90-degree arcs of radius {lead:g} mm tangent at theta = 0)",
+        f"(feed: {feed_mm_min:g} mm/min)",
     ]
-    for i, path in enumerate(paths):
+    if with_z:
+        lines.append(
+            f"(Z moves: safe height {safe_z_mm:g} mm, cutting depth {cut_z_mm:g} mm,"
+            f" plunge feed {plunge_feed_mm_min:g} mm/min)"
+        )
+    else:
+        lines.append("(2D contour: no Z words; set the cutting depth before cycle start)")
+    lines += [
+        "G21 (millimetres)",
+        "G17 (XY plane)",
+        "G90 (absolute coordinates)",
+        "G40 (cutter compensation off)",
+        "G94 (feed per minute)",
+    ]
+
+    def xy(x: float, y: float) -> str:
+        return f"X{x:.{k}f} Y{y:.{k}f}"
+
+    for i, (path, (start, end, centre, ccw)) in enumerate(zip(paths, leads, strict=True)):
         if path.label:
             lines.append(f"(cam {path.label})")
-        lines.append(f"G00 X{path.x0_mm[0]:.{k}f} Y{path.y0_mm[0]:.{k}f}")
+        if with_z:
+            lines.append(f"G00 Z{safe_z_mm:.{k}f}")
+        lines.append(f"G00 {xy(*start)} (lead-in start)")
+        if with_z:
+            lines.append(f"G01 Z{cut_z_mm:.{k}f} F{plunge_feed_mm_min:g} (plunge)")
+        g = "G03" if ccw else "G02"
+        p0 = (float(path.x0_mm[0]), float(path.y0_mm[0]))
+        ci, cj = centre[0] - start[0], centre[1] - start[1]
+        lines.append(f"{g} {xy(*p0)} I{ci:.{k}f} J{cj:.{k}f} F{feed_mm_min:g} (lead-in)")
         for j in range(path.blocks):
-            xy = f"X{path.x1_mm[j]:.{k}f} Y{path.y1_mm[j]:.{k}f}"
-            feed = f" F{feed_mm_min:g}" if j == 0 else ""
+            to = xy(path.x1_mm[j], path.y1_mm[j])
             if path.is_arc[j]:
                 ci = path.centre_x_mm[j] - path.x0_mm[j]
                 cj = path.centre_y_mm[j] - path.y0_mm[j]
-                g = "G03" if path.ccw[j] else "G02"
-                lines.append(f"{g} {xy} I{ci:.{k}f} J{cj:.{k}f}{feed}")
+                lines.append(f"{'G03' if path.ccw[j] else 'G02'} {to} I{ci:.{k}f} J{cj:.{k}f}")
             else:
-                lines.append(f"G01 {xy}{feed}")
+                lines.append(f"G01 {to}")
+        ci, cj = centre[0] - p0[0], centre[1] - p0[1]
+        lines.append(f"{g} {xy(*end)} I{ci:.{k}f} J{cj:.{k}f} (lead-out)")
+        if with_z:
+            lines.append(f"G00 Z{safe_z_mm:.{k}f} (retract)")
         if i + 1 < len(paths):
-            lines.append("M00 (next cam)")
-    lines += ["M30", "%"]
-    return GcodeProgram("\n".join(lines) + "\n", tuple(paths), mode, tolerance_mm, r, worst)
+            lines.append(f"M00 (cam {paths[i + 1].label} next: set it up, then cycle start)")
+    lines += ["M30 (end of program)", "%"]
+    return GcodeProgram(
+        "\n".join(lines) + "\n",
+        tuple(paths),
+        mode,
+        tolerance_mm,
+        r,
+        worst,
+        feed_mm_min=feed_mm_min,
+        lead_radius_mm=lead,
+        safe_z_mm=safe_z_mm,
+        cut_z_mm=cut_z_mm,
+        plunge_feed_mm_min=plunge_feed_mm_min,
+    )
 
 
 _WORD = re.compile(r"([A-Z])\s*([-+]?\d*\.?\d+(?:[eE][-+]?\d+)?)")
@@ -387,7 +540,9 @@ def read_gcode(text: str) -> list[GcodePath]:
     """Read contours back from G-code (G00 rapid starts a contour; G01/G02/G03 cut).
 
     Only what :func:`write_gcode` writes is understood: absolute XY, arc centres by I, J
-    relative to the block start, comments in parentheses or after ``;``.
+    relative to the block start, comments in parentheses or after ``;``. Blocks marked
+    ``(lead-in)`` or ``(lead-out)`` move the tool but are not part of the contour; Z-only
+    blocks (retract, plunge) are skipped.
 
     Parameters
     ----------
@@ -429,6 +584,7 @@ def read_gcode(text: str) -> list[GcodePath]:
             cur.clear()
 
     for lineno, raw in enumerate(text.splitlines(), start=1):
+        lead = "(lead-in)" in raw or "(lead-out)" in raw
         line = re.sub(r"\(.*?\)", "", raw).split(";")[0].upper()
         words = dict(_WORD.findall(line))
         gs = [int(float(v)) for k, v in _WORD.findall(line) if k == "G"]
@@ -445,6 +601,8 @@ def read_gcode(text: str) -> list[GcodePath]:
             close()
         elif math.isnan(x):
             raise InputFileError(f"G-code line {lineno}: a cutting move before any position")
+        elif lead:
+            pass
         elif motion == 1:
             cur.append((x, y, nx, ny, math.nan, math.nan, False, False))
         else:

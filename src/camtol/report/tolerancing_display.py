@@ -407,7 +407,8 @@ def display_montecarlo(result: MonteCarloResult, design: CamDesign) -> MonteCarl
     notes = result.notes
     if result.mode == "linear" and notes:
         lift = stats["lift"]
-        first = f"{notes[0]} (quantiles within ±{lift.resolution:.3g} {lift.unit}, a bound)"
+        spelt = {"um": " µm", "deg": "°"}.get(lift.unit, f" {lift.unit}")
+        first = f"{notes[0]} (quantiles within ±{lift.resolution:.3g}{spelt}, a bound)"
         notes = (first, *notes[1:])
     y = result.yield_estimate
     return MonteCarloDisplay(

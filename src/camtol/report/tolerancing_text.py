@@ -45,6 +45,12 @@ def curves_csv(shown: Any) -> str:
     return csv_text(cols, np.column_stack(arrays), digits=9)
 
 
+#: The terminal's width: every line of the summary fits it (STYLE, issue 32).
+WIDTH = 80
+#: How units are shown (the result keeps the file spellings "um" and "deg").
+_SHOWN = {"um": "µm", "deg": "°"}
+
+
 def _interval(ci: tuple[float | None, float | None] | None) -> str:
     if ci is None:
         return ""
@@ -52,8 +58,34 @@ def _interval(ci: tuple[float | None, float | None] | None) -> str:
     return f" [{'-' if lo is None else f'{lo:.4g}'}, {'-' if hi is None else f'{hi:.4g}'}]"
 
 
+def _pct(p: float, digits: int = 6) -> str:
+    """Return a probability in percent with the significant digits it needs.
+
+    6 for yields (99.9816 %, where the digits near 100 % matter), 3 for small
+    probabilities (1.77e-07 %).
+    """
+    return f"{100.0 * p:.{digits}g} %"
+
+
+def _wrap(text: str, indent: int, hang: int = 4) -> list[str]:
+    """Lines of ``text`` within :data:`WIDTH`, indented, continuations indented further."""
+    import textwrap
+
+    return textwrap.wrap(
+        text,
+        WIDTH,
+        initial_indent=" " * indent,
+        subsequent_indent=" " * (indent + hang),
+        break_on_hyphens=False,
+        break_long_words=False,
+    )
+
+
 def montecarlo_lines(shown: Any) -> list[str]:
     """Return the terminal summary of ``camtol montecarlo`` (docs/tolerancing.md).
+
+    Every line fits 80 columns: a figure's label and method on one line, its numbers on
+    the next, notes wrapped under themselves.
 
     Parameters
     ----------
@@ -71,51 +103,59 @@ def montecarlo_lines(shown: Any) -> list[str]:
     add = lines.append
     result = shown.result
     s = shown.statistics["lift"]
-    u = s.unit
-    add(
-        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples} samples,"
-        f" seed {result.seed}"
+    u = _SHOWN.get(s.unit, s.unit)
+    lines += _wrap(
+        f"camtol montecarlo: {result.design_name}, {result.mode} mode, {result.samples}"
+        f" samples, seed {result.seed}",
+        0,
     )
     for k, v in shown.sources.items():
-        add(f"  source {k:<10} {v}")
+        lines += _wrap(f"source {k:<10} {v}", 2, 18)
     i = shown.worst_index
     if s.method == "deterministic":
-        how = f"deterministic, from the distributions; quantiles within ±{s.resolution:.3g} {u}"
+        how = f"deterministic (quantiles within ±{s.resolution:.3g} {u})"
     else:
         how = f"sampled, {result.samples} samples"
-    add(
-        f"  dS at θ = {result.theta_deg[i]:.2f}° (worst margin) [{u}] ({how}): mean"
-        f" {s.mean[i]:.4g}, std {s.std[i]:.4g}, 0.135 % {s.q00135[i]:.4g}, median"
-        f" {s.q50[i]:.4g}, 99.865 % {s.q99865[i]:.4g}"
+    add(f"  ΔS at θ = {result.theta_deg[i]:.2f}° (worst margin), {how}:")
+    lines += _wrap(
+        f"mean {s.mean[i]:.4g}, std {s.std[i]:.4g}, 0.135 % {s.q00135[i]:.4g}, median"
+        f" {s.q50[i]:.4g}, 99.865 % {s.q99865[i]:.4g} {u}",
+        4,
     )
     o = result.outside
     if o is not None:
         j = o.worst
-        add(
-            f"  P(dS outside the limits) (deterministic): largest {o.value[j]:.4%} at θ ="
-            f" {result.theta_deg[j]:.2f}° (bounds [{o.lower[j]:.4%}, {o.upper[j]:.4%}]),"
-            f" so the yield is at most {1.0 - float(o.lower.max()):.4%}"
+        add("  P(ΔS outside the limits), deterministic:")
+        lines += _wrap(
+            f"largest {_pct(o.value[j], 3)} at θ = {result.theta_deg[j]:.2f}° (bounds"
+            f" {_pct(o.lower[j], 3)} to {_pct(o.upper[j], 3)}), so the yield is at most"
+            f" {_pct(1.0 - float(o.lower.max()))}",
+            4,
         )
     for q in ("velocity", "acceleration"):
         if q in shown.statistics:
             v = shown.statistics[q]
-            add(
-                f"  max |d{q[0].upper()}| [{v.unit}] (sampled): mean {v.max_abs.mean:.4g},"
-                f" 99.865 % {v.max_abs.q99865:.4g}"
+            lines += _wrap(
+                f"max |d{q[0].upper()}| [{v.unit}] (sampled): mean {v.max_abs.mean:.4g},"
+                f" 99.865 % {v.max_abs.q99865:.4g}",
+                2,
             )
     m = s.max_abs
     ci = m.ci95
-    add(
-        f"  max |dS| [{u}] (sampled, 95 % CI in brackets): mean {m.mean:.4g}"
-        f"{_interval(ci.get('mean'))}, std {m.std:.4g}, 0.135 % {m.q00135:.4g}"
-        f"{_interval(ci.get('q00135'))}, median {m.q50:.4g}{_interval(ci.get('q50'))},"
-        f" 99.865 % {m.q99865:.4g}{_interval(ci.get('q99865'))}"
+    add("  max |ΔS|, sampled (95 % intervals in brackets):")
+    lines += _wrap(
+        f"mean {m.mean:.4g}{_interval(ci.get('mean'))}, std {m.std:.4g},"
+        f" 0.135 % {m.q00135:.4g}{_interval(ci.get('q00135'))},"
+        f" median {m.q50:.4g}{_interval(ci.get('q50'))},"
+        f" 99.865 % {m.q99865:.4g}{_interval(ci.get('q99865'))} {u}",
+        4,
     )
     y = result.yield_estimate
     if y is not None:
-        add(
-            f"  yield ({shown.yield_spec}) (sampled): {y.value:.4%}"
-            f"  95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]"
+        lines += _wrap(
+            f"yield ({shown.yield_spec}), sampled: {_pct(y.value)}, 95 % interval"
+            f" {_pct(y.ci95[0])} to {_pct(y.ci95[1])}",
+            2,
         )
     add(f"  contributions at θ = {result.worst_angle_deg:.2f}° (variance share):")
     for c in result.contributions:
@@ -128,18 +168,17 @@ def montecarlo_lines(shown: Any) -> list[str]:
         )
     if shown.difference is not None:
         d = shown.difference
-        add(
-            f"  linearisation error, exact minus linear on the same samples [{u}] (differences,"
-            " not a distribution):"
-        )
-        add(
-            f"    largest |exact - linear| over θ of the per-angle mean {d.mean:.3g}, std"
-            f" {d.std:.3g}, 0.135 % quantile {d.q00135:.3g}, 99.865 % quantile {d.q99865:.3g};"
-        )
-        add(
-            f"    of the 99.865 % quantile of max |dS| {d.max_abs_q99865:.3g}; largest"
-            f" |exact - linear| of one sample at one angle {d.max_sample:.3g}"
+        add(f"  linearisation error, exact minus linear on the same samples [{u}]")
+        add("  (differences, not a distribution):")
+        add("    largest |exact - linear| over θ of the per-angle mean")
+        lines += _wrap(
+            f"{d.mean:.3g}, std {d.std:.3g}, 0.135 % quantile {d.q00135:.3g},"
+            f" 99.865 % quantile {d.q99865:.3g}; of the 99.865 % quantile of max |ΔS|"
+            f" {d.max_abs_q99865:.3g}; largest |exact - linear| of one sample at one angle"
+            f" {d.max_sample:.3g}",
+            6,
+            0,
         )
     for n in shown.notes:
-        add(f"  note: {n}")
+        lines += _wrap(f"note: {n}", 2, 6)
     return lines

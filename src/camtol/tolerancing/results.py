@@ -131,8 +131,8 @@ def few_samples_warning(samples: int, what: str) -> tuple[str, ...]:
     if samples >= FEW_SAMPLES:
         return ()
     return (
-        f"the quantiles of {what} come from {samples} sample{'s' if samples != 1 else ''}"
-        f" (fewer than {FEW_SAMPLES:,}): they are rough; see their 95 % intervals",
+        f"quantiles of {what} from {samples} sample{'s' if samples != 1 else ''}"
+        f" (fewer than {FEW_SAMPLES:,}): rough",
     )
 
 
