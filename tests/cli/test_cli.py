@@ -312,8 +312,8 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
             "--seed=-1 is not allowed; give a whole number ≥ 0",
         ),
         (
-            ["simulate", "cmm", "-o", "s.csv", "--points", "10"],
-            "--points=10 is not allowed; give a whole number ≥ 36",
+            ["simulate", "cmm", "-o", "s.csv", "--n-points", "10"],  # was --points (issue 31)
+            "--n-points=10 is not allowed; give a whole number ≥ 36",
         ),
         (
             ["simulate", "cmm", "-o", "s.csv", "--outliers", "361"],
@@ -324,8 +324,8 @@ def test_library_grids_refuse_a_step_that_does_not_divide_360() -> None:
             "--noise-um=nan is not allowed; give a number from 0 to 1000 in µm",
         ),
         (
-            ["simulate", "cmm", "-o", "s.csv", "--points", "1.5"],
-            "--points='1.5' is not a whole number",
+            ["simulate", "cmm", "-o", "s.csv", "--n-points", "1.5"],
+            "--n-points='1.5' is not a whole number",
         ),
         (  # named the library parameter
             ["inspect", "--points", "p.csv", "--harmonics", "0"],

@@ -315,14 +315,17 @@ def test_best_fit_with_the_cmm_origin_far_from_the_cam(cw11) -> None:  # type: i
 
 def test_radial_tolerance_bounds_dr_and_normal_bounds_dn(cw11) -> None:  # type: ignore[no-untyped-def]
     # A radial error: |Δr| ≥ |Δn| (Δn ≈ Δr cos λ). A limit between max|Δn| and max|Δr|
-    # fails on Δr and passes on Δn; the pair's [inspection] tolerance is radial.
+    # fails on Δr and passes on Δn. The pair's CMM zone is its ISO 1101
+    # profile_tolerance_a = "IT11" (220 µm wide, ±110 µm on Δn), not the fixture's radial
+    # band tolerance_a_um = ±220 µm (issue 31 changed this meaning).
     # extremes at θ = 60° and 240°, mid-rise and mid-return, where |λ| > 20°
     c, s = math.cos(math.radians(60.0)), math.sin(math.radians(60.0))
     err = FourierError(0.0, cos_mm=(0.05 * c,), sin_mm=(0.05 * s,))
     sim = simulate_scan(cw11, points=3600, noise_um=0.0, profile_error=err)
     datum = Datum("centre", centre_mm=(0.0, 0.0), angle_deg=0.0)
     base = inspect_scan(cw11, _scan(sim.x_mm, sim.y_mm), datum=datum)
-    assert base.tolerance_kind == "radial" and base.tolerance_um == (-220.0, 220.0)
+    assert base.tolerance_kind == "normal" and base.tolerance_um == (-110.0, 110.0)
+    assert not base.floating  # centre and angle stated: a located zone
     a_dn, a_dr = float(np.max(np.abs(base.dn_um))), float(np.max(np.abs(base.dr_um)))
     assert a_dr > a_dn + 0.5
     lim = 0.5 * (a_dn + a_dr)

@@ -94,8 +94,9 @@ def test_inspect_json_curves_motion(capsys, scan_b: Path, tmp_path: Path) -> Non
     for key in ("form_um", "max_dn_um", "min_dn_um", "failing_intervals_deg", "motion"):
         assert key in data
     assert data["motion"]["unit"] == "deg"
-    assert data["motion"]["max_abs_dS_measured"] == pytest.approx(
-        data["motion"]["max_abs_dS_linear"], rel=0.01
+    # issue 31: every motion key carries its unit (degrees for this swing)
+    assert data["motion"]["max_abs_ds_deg"] == pytest.approx(
+        data["motion"]["max_abs_ds_linear_deg"], rel=0.01
     )
     assert "hides eccentricity" in err  # the best-fit warning
     with curves.open() as fh:
@@ -127,7 +128,9 @@ def test_inspect_fails_with_exit_1_and_angles(capsys, scan_b: Path, tmp_path: Pa
         str(report),
     )
     assert code == 1
-    assert "verdict: FAIL" in out and "outside at polar angles" in out
+    flat = " ".join(out.split())  # lines wrap at 80 columns
+    assert "verdict: FAIL" in out and "outside at polar angles" in flat
+    assert max(len(line) for line in out.splitlines()) <= 80
     assert plot.stat().st_size > 10_000 and "<svg" in report.read_text()
 
 
@@ -388,14 +391,14 @@ def test_motion_spec_pass_and_fail(capsys, scan_b: Path, tmp_path: Path) -> None
     code, out, err = _run(capsys, *base)
     assert code == 0, err
     m = json.loads(out)["motion"]
-    assert m["spec"] is None and m["verdict"] is None
-    worst = m["max_abs_dS_measured"]  # deg: cw11 has an oscillating follower
+    assert m["spec_deg"] is None and m["verdict"] is None
+    worst = m["max_abs_ds_deg"]  # deg: cw11 has an oscillating follower
     code, out, err = _run(capsys, *base, "--spec-deg", f"{1.01 * worst!r}")
     data = json.loads(out)
     assert code == 0, err
     assert data["motion"]["verdict"] == "pass" and data["verdict"] == "pass"
     # JSON floats carry 10 significant digits (issue 13 item 6)
-    assert data["motion"]["spec"] == pytest.approx(1.01 * worst, rel=1e-9)
+    assert data["motion"]["spec_deg"] == pytest.approx(1.01 * worst, rel=1e-9)
     motion = tmp_path / "m.csv"
     code, out, err = _run(capsys, *base, "--spec-deg", f"{0.99 * worst!r}", "--motion", str(motion))
     data = json.loads(out)
@@ -403,7 +406,7 @@ def test_motion_spec_pass_and_fail(capsys, scan_b: Path, tmp_path: Path) -> None
     assert data["profile_verdict"] == "pass" and data["motion"]["verdict"] == "fail"
     assert data["verdict"] == "fail" and motion.exists()
     code, out, _ = _run(capsys, *base[:-1], "--spec-deg", f"{0.99 * worst!r}")
-    assert code == 1 and "FAIL against the motion spec" in out
+    assert code == 1 and "FAIL against the motion spec" in " ".join(out.split())
     assert "verdict: FAIL (profile and follower error)" in out
 
 

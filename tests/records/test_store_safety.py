@@ -137,7 +137,7 @@ def test_a_refused_command_leaves_no_store_behind(tmp_path: Path) -> None:
         ["conjugate", "-e", PAIR, "--df-mea", "nan", "--step", "5"],  # a measurement of NaN
         ["conjugate", "-e", "cw11-experiment", "--step", "5"],  # nothing measured
         ["conjugate", "-e", PAIR, "--step", "7"],  # a bad grid
-        [*STORE_RUN[:-1], "--inspected-at", "yesterday"],
+        [*STORE_RUN[:-1], "--date", "yesterday"],
     ):
         code, _, err = _run([*args, "--store", str(db)])
         assert code == 2 and err.count("\n") == 1, (args, err)

@@ -107,7 +107,7 @@ def test_export_csv_and_json(store_url: str, tmp_path: Path) -> None:
 
     _fill(store_url)
     scan = tmp_path / "s.csv"
-    sim = ["simulate", "cmm", "-e", "roller-translating", "-o", str(scan), "--points", "720"]
+    sim = ["simulate", "cmm", "-e", "roller-translating", "-o", str(scan), "--n-points", "720"]
     assert _run(sim)[0] == 0
     args = ["inspect", "-e", "roller-translating", "--points", str(scan), "--step", "1"]
     assert _run([*args, "-q", "--store", store_url, "--serial", "9", "--lot", "L2"])[0] in (0, 1)
@@ -128,14 +128,16 @@ def test_export_csv_and_json(store_url: str, tmp_path: Path) -> None:
         )  # fmt: skip
         assert row["inspected_at_utc"].endswith("+00:00") and row["design_hash"] == rec.design_hash
         assert float(row["max_dev_um"]) == pytest.approx(rec.max_dev_um, rel=1e-9)
-        assert row["judged_on"] == "dr" and row["raw_sha256"] == rec.raw_sha256
+        # a fixture record is judged on Δr; a CMM one on Δn, its ISO 1101 zone (issue 31)
+        on = "dn" if row["method"] == "cmm" else "dr"
+        assert row["judged_on"] == on and row["raw_sha256"] == rec.raw_sha256
     cmm = rows[-1]
-    assert cmm["method"] == "cmm" and cmm["max_abs_ds_urad"] == ""  # a lift: in µm
+    assert cmm["method"] == "cmm" and cmm["max_abs_ds_deg"] == ""  # a lift: in µm
     assert float(cmm["max_abs_ds_um"]) == pytest.approx(recs[9].max_abs_ds_um, rel=1e-9)
     text_columns = {"part_number", "serial", "lot", "inspector", "instrument", "design_name"}
     text_columns |= {"design_hash", "method", "cam", "judged_on", "decision_rule", "verdict"}
     text_columns |= {"raw_sha256", "camtol_version", "id", "n_points", "inspected_at_utc"}
-    assert all(c.endswith(("_um", "_urad")) for c in COLUMNS if c not in text_columns)
+    assert all(c.endswith(("_um", "_deg")) for c in COLUMNS if c not in text_columns)
     # --lot, --all, JSON (valid against its schema), -o FILE
     code, out, _ = _run(["records", "export", "--store", store_url, "--format", "json", "--all"])
     data = json.loads(out)

@@ -1,7 +1,11 @@
 """``camtol inspect``: a machined cam checked from a CMM scan (issue 12; THEORY §2, §3, §5).
 
 Registered on the ``camtol`` group by :mod:`camtol.cli.app`. Exit status 1 when the cam fails
-its profile tolerance, 0 when it passes, 2 on bad input (nothing written then).
+its profile zone, 0 when it passes, 2 on bad input (nothing written then).
+
+Why one module: the command and the parsers of its own options (``--datum``, ``--columns``,
+``--tolerance-um``, the record grid of ``--store``), which ``camtol conjugate`` and
+``camtol report`` reuse for their CMM scans.
 """
 
 from __future__ import annotations
@@ -26,9 +30,17 @@ from camtol.cli.options import Number, design_options, step_option
 from camtol.cli.recording import check_store_options, store_options
 
 if TYPE_CHECKING:
+    from camtol.inspection.deviations import CmmInspection
     from camtol.inspection.registration import Datum
 
-__all__ = ["inspect", "parse_columns", "parse_datum", "parse_numbers"]
+__all__ = [
+    "inspect",
+    "parse_columns",
+    "parse_datum",
+    "parse_numbers",
+    "parse_zone_option",
+    "record_grid_points",
+]
 
 
 def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float, ...]:
@@ -54,6 +66,62 @@ def parse_numbers(text: str, count: int, option: str, what: str) -> tuple[float,
     return vals
 
 
+def parse_zone_option(text: str | None) -> tuple[float, float] | None:
+    """Parse ``--tolerance-um``: T (a zone T wide, ±T/2) or LO,HI; None when not given.
+
+    Parameters
+    ----------
+    text : str or None
+        The option's value. [µm]
+
+    Returns
+    -------
+    (float, float) or None
+        The zone's limits (lower, upper). [µm]
+    """
+    if text is None:
+        return None
+    if "," not in text:
+        (t,) = parse_numbers(text, 1, "--tolerance-um", "T (zone width, µm) or LO,HI in µm")
+        if not 0 < t <= 20_000:
+            fail(f"--tolerance-um={text!r} is not allowed; give a zone width T > 0 µm (≤ 20000)")
+        return -0.5 * t, 0.5 * t
+    lo, hi = parse_numbers(text, 2, "--tolerance-um", "T (zone width, µm) or LO,HI in µm")
+    if not lo < hi:
+        fail(f"--tolerance-um={text!r} is not allowed; give LO,HI with LO < HI (µm)")
+    return lo, hi
+
+
+#: Record grids a CMM record may use, finest first (points over 360°).
+RECORD_GRIDS = (3600, 1800, 1440, 720, 360, 180, 72, 36)
+
+
+def record_grid_points(insp: CmmInspection) -> int:
+    """Return the finest record grid the scan's largest polar gap allows (any ``--step``).
+
+    The store's resampling rule (:func:`camtol.records.lots.scan_on_grid`) allows a gap of
+    :data:`~camtol.records.lots.MAX_GAP_STEPS` grid steps; a 720-point scan is stored on a
+    0.25° grid, a 3600-point one on 0.1°.
+
+    Parameters
+    ----------
+    insp : CmmInspection
+        The inspection (its kept points' polar angles).
+
+    Returns
+    -------
+    int
+        Points n of the record grid.
+    """
+    from camtol.records.lots import MAX_GAP_STEPS, largest_polar_gap
+
+    gap, _ = largest_polar_gap(insp.theta_deg[insp.kept])
+    for n in RECORD_GRIDS:
+        if gap <= MAX_GAP_STEPS * 360.0 / n:
+            return n
+    return RECORD_GRIDS[-1]  # refused by the store's rule, with its message
+
+
 def parse_columns(text: str | None) -> dict[str, str] | None:
     """Parse ``--columns X=x_mm,Y=y_mm`` into a header mapping.
 
@@ -73,7 +141,9 @@ def parse_columns(text: str | None) -> dict[str, str] | None:
     return out
 
 
-def parse_datum(text: str, angle: float | None, point: str | None, loss: str) -> Datum:
+def parse_datum(
+    text: str, angle: float | None, point: str | None, loss: str, keyway: float | None = None
+) -> Datum:
     """Build the registration :class:`~camtol.inspection.registration.Datum` from options.
 
     Parameters
@@ -86,8 +156,15 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
         ``--datum-point`` X,Y,DEG. [mm, mm, deg]
     loss : str
         ``--loss``.
+    keyway : float or None
+        ``--keyway-deg``: nominal polar angle of the keyway flagged in the scan. [deg]
     """
     from camtol.inspection.registration import Datum
+
+    if keyway is not None and not math.isfinite(keyway):
+        fail(f"--keyway-deg={keyway!r} must be a finite number of degrees")
+    if keyway is not None and (angle is not None or point is not None):
+        fail("--keyway-deg is the angular datum: leave out --datum-angle and --datum-point")
 
     centre = None
     mode = text
@@ -116,6 +193,7 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
         point_mm=pt,
         point_angle_deg=pt_angle,
         loss=loss,  # type: ignore[arg-type]
+        keyway_deg=keyway,
     )
 
 
@@ -125,8 +203,9 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     "--points",
     "points_path",
     required=True,
-    metavar="FILE.csv",
-    help="CMM point file: columns x_mm, y_mm [, z_mm, bore, cam] (units in names).",
+    metavar="FILE.csv|.dmi|.dmo",
+    help="CMM points: CSV with columns x_mm, y_mm [, z_mm, bore, cam] (units in names),"
+    " or DMIS output (FA(label)=FEAT/POINT,CART,x,y,z,i,j,k with its UNITS).",
 )
 @click.option(
     "--cam",
@@ -139,10 +218,9 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     "--stylus-radius-mm",
     "stylus_mm",
     type=Number(low=0, unit="mm"),
-    default=0.0,
-    show_default=True,
+    default=None,
     help="Stylus-ball radius: the points are ball centres, compensated along the"
-    " local normal (0: surface points) [mm].",
+    " local normal (0: surface points; default: the scan header's, else 0) [mm].",
 )
 @click.option(
     "--columns", metavar="NAME=col,...", help="Map the file's column names, e.g. X=x_mm,Y=y_mm."
@@ -171,6 +249,14 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
     help="A datum point (keyway) in CMM mm at this nominal polar angle [deg].",
 )
 @click.option(
+    "--keyway-deg",
+    "keyway_deg",
+    type=float,
+    metavar="DEG",
+    help="Feature datum: the points flagged keyway=1 lie at this nominal polar angle [deg]"
+    " (with bore or centre).",
+)
+@click.option(
     "--loss",
     type=click.Choice(["soft_l1", "huber", "linear"]),
     default="soft_l1",
@@ -180,15 +266,30 @@ def parse_datum(text: str, angle: float | None, point: str | None, loss: str) ->
 @click.option(
     "--tolerance-um",
     "tolerance",
-    metavar="LO,HI",
-    help="Profile tolerance [µm] (default: the design's).",
+    metavar="T|LO,HI",
+    help="Profile zone [µm]: T, a zone T wide (ISO 1101: ±T/2 about the nominal), or the"
+    " limits LO,HI (default: the design's [inspection] zone).",
 )
 @click.option(
     "--tolerance-on",
     "tolerance_on",
     type=click.Choice(["dn", "dr"]),
-    help="Deviation the tolerance bounds: normal Δn or radial Δr (default: the design's"
-    " kind; dn for --tolerance-um).",
+    help="Deviation the zone bounds: dn (normal, ISO 1101; default) or dr (a radial band,"
+    " not ISO 1101).",
+)
+@click.option(
+    "--decision",
+    type=click.Choice(["simple", "guard-band"]),
+    default="simple",
+    show_default=True,
+    help="Decision rule (ISO 14253-1): 'simple' judges the deviations against the zone;"
+    " 'guard-band' against the zone shrunk by U on both sides (needs --u-cmm-um).",
+)
+@click.option(
+    "--u-cmm-um",
+    "u_cmm_um",
+    type=Number(low=0, unit="µm"),
+    help="The CMM's expanded uncertainty U (k = 2) [µm], combined with a bore datum's.",
 )
 @click.option(
     "--harmonics",
@@ -228,14 +329,17 @@ def inspect(
     example: str | None,
     points_path: str,
     cam: str,
-    stylus_mm: float,
+    stylus_mm: float | None,
     columns: str | None,
     datum_text: str,
     datum_angle: float | None,
     datum_point: str | None,
+    keyway_deg: float | None,
     loss: str,
     tolerance: str | None,
     tolerance_on: str | None,
+    decision: str,
+    u_cmm_um: float | None,
     harmonics: int,
     step_deg: float,
     spec_um: float | None,
@@ -251,15 +355,18 @@ def inspect(
     """Inspect a machined cam from CMM points: registration, deviations, follower error.
 
     Registers the scan to the nominal profile (datum frame or robust best fit, with
-    uncertainties), computes the normal deviation Δn of every point to the exact analytic
-    profile, the radial deviation Δr, the form and minimum zone, the verdict against the
-    profile tolerance with the failing angles, and the follower's motion error on the
-    measured cam (exact, and linear from Δn), judged against the motion spec
-    (--spec-um/--spec-deg) when given. Exit status 1 when the cam fails either.
+    random and form uncertainties), computes the normal deviation Δn of every point to
+    the exact analytic profile, the radial deviation Δr, the form and minimum zone, the
+    verdict against the profile zone (ISO 1101: the design's [inspection]
+    profile_tolerance_um, or --tolerance-um; floating without a datum, located with
+    one) with the failing stretches, and the follower's motion error on the measured cam
+    (exact, and linear from Δn), judged against the motion spec (--spec-um/--spec-deg)
+    when given. Exit status 1 when the cam fails either.
 
-    With --store DB the inspected cam is recorded in an inspection store with the
-    traceability options (see `camtol records`): its Δr resampled onto the --step grid,
-    refused when the scan has a gap wider than 5 grid steps (docs/cmm-inspection.md).
+    The traceability options (--part-number, --serial, --date, ...) go into --report and
+    --json; with --store DB the inspected cam is recorded with them (see `camtol
+    records`): its Δr on the finest record grid (0.1° to 10°) that the scan's largest
+    gap allows, whatever --step (docs/cmm-inspection.md).
     """
 
     def body() -> int:
@@ -268,17 +375,16 @@ def inspect(
         check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
         check_output_path(report_path, "--report", [".html", ".htm"])
         aliases = parse_columns(columns)
-        datum = parse_datum(datum_text, datum_angle, datum_point, loss)
-        tol = None
-        if tolerance is not None:
-            lo, hi = parse_numbers(tolerance, 2, "--tolerance-um", "LOWER,UPPER in µm")
-            tol = (lo, hi)
+        datum = parse_datum(datum_text, datum_angle, datum_point, loss, keyway_deg)
+        tol = parse_zone_option(tolerance)
+        if decision == "guard-band" and u_cmm_um is None:
+            fail(
+                "--decision guard-band needs the measurement uncertainty: give --u-cmm-um U"
+                " (the CMM's expanded uncertainty, µm), or use --decision simple"
+            )
         store = check_store_options(store_opts)
-        n_record = 0
-        if store is not None:
-            from camtol.grid import check_step
-
-            n_record = check_step(step_deg, name="--step", min_points=4)
+        from camtol.cli.recording import report_traceability
+        from camtol.inspection.cmm import header_stylus_radius_mm
         from camtol.inspection.cmm_run import CmmInputs, run_cmm
         from camtol.inspection.deviations import cam_profile
         from camtol.report import inspection_report as rep
@@ -289,10 +395,23 @@ def inspect(
 
         spec = parse_motion_spec(prof.mechanism.output, spec_um, spec_deg)
         kind = None if tolerance_on is None else ("normal" if tolerance_on == "dn" else "radial")
+        header_r = header_stylus_radius_mm(points_path)
+        stylus_note = None
+        stylus = stylus_mm
+        if stylus is None:
+            stylus = header_r or 0.0
+            if header_r:
+                stylus_note = f"stylus radius {header_r:g} mm from the scan's header"
+        elif header_r is not None and header_r != stylus and not quiet:
+            click.echo(
+                f"camtol: warning: the scan's header says stylus {header_r:g} mm;"
+                f" --stylus-radius-mm {stylus:g} is used",
+                err=True,
+            )
         inputs = CmmInputs(
             points_path=points_path,
             cam=cam,  # type: ignore[arg-type]
-            stylus_radius_mm=stylus_mm,
+            stylus_radius_mm=stylus,
             aliases=aliases,
             datum=datum,
             tolerance_um=tol,
@@ -300,6 +419,8 @@ def inspect(
             harmonics=harmonics,
             step_deg=step_deg,
             spec=spec,
+            decision=decision,
+            u_cmm_um=u_cmm_um,
         )
         run = run_cmm(d, inputs, profile=prof)
         if run.functional_error is not None:
@@ -307,13 +428,20 @@ def inspect(
 
             warnings.warn(f"follower error not computed: {run.functional_error}", stacklevel=1)
         insp, func = run.inspection, run.functional
-        data = rep.inspection_json(insp, func, design=d.name, stylus_radius_mm=stylus_mm)
+        data = rep.inspection_json(insp, func, design=d.name, stylus_radius_mm=stylus)
+        if stylus_note is not None:
+            data["stylus_radius_source"] = "header"
+        data["traceability"] = rep.traceability_json(
+            report_traceability(store_opts), design=d, scan_path=points_path
+        )
         for opt, wanted in (("--motion", motion), ("--spec-um/--spec-deg", spec)):
             if wanted is not None and func is None:
                 fail(f"{opt}: the follower error could not be computed (see the warning)")
         prepared = None
         if store is not None:  # the record (gap rule, duplicates) is checked before any output
             from camtol.cli.recording import cmm_prepared
+
+            n_record = record_grid_points(insp)
 
             prepared = cmm_prepared(
                 store,
@@ -354,10 +482,11 @@ def inspect(
 
             record_id = add_records(store, prepared)[0]
         for w in () if quiet else insp.registration.warnings:  # -q: exit status only
-            click.echo(f"camtol: warning: {w}", err=True)
+            for line in rep.wrap_line(f"camtol: warning: {w}"):
+                click.echo(line, err=True)
         if as_json:
             data["record_ids"] = [] if record_id is None else [record_id]  # in --store
-            echo_json(data, command="inspect")
+            echo_json(data, command="inspect", schema_version=rep.INSPECT_SCHEMA_VERSION)
         elif not quiet:
             for line in rep.inspection_text(data):
                 click.echo(line)

@@ -131,12 +131,20 @@ def has_inspection_input(*values: str | None) -> bool:
 
 
 def check_cmm_options(
-    cmm_a: str | None, cmm_b: str | None, cmm_stylus_mm: float, cmm_datum: str
+    cmm_a: str | None,
+    cmm_b: str | None,
+    cmm_stylus_mm: float,
+    cmm_datum: str,
+    *,
+    cmm: str | None = None,
+    pair: bool | None = None,
 ) -> None:
-    """Refuse CMM-scan options that cannot apply: one scan alone, or no scan at all.
+    """Refuse CMM-scan options that cannot apply: the wrong kind, one scan alone, none.
 
-    Without ``--cmm-a``/``--cmm-b`` a stylus radius or a datum would be silently ignored
-    (a NaN radius included), so giving one ends the command with a usage error.
+    The wrong kind is named first (issue 31): ``--cmm`` is a single cam's scan,
+    ``--cmm-a``/``--cmm-b`` a conjugate pair's. Without a scan a stylus radius or a datum
+    would be silently ignored (a NaN radius included), so giving one ends the command
+    with a usage error.
 
     Parameters
     ----------
@@ -146,10 +154,27 @@ def check_cmm_options(
         ``--cmm-stylus-radius-mm`` (default 0). [mm]
     cmm_datum : str
         ``--cmm-datum`` (default ``fit``).
+    cmm : str or None
+        ``--cmm``: the scan of a single cam (``camtol report``).
+    pair : bool, optional
+        Whether the design is a conjugate pair (None: not known yet).
     """
+    if pair is False and (cmm_a is not None or cmm_b is not None):
+        flag = "--cmm-a" if cmm_a is not None else "--cmm-b"
+        fail(
+            f"{flag} is a scan of a conjugate pair's cam; this design is a single cam:"
+            " give its scan as --cmm SCAN"
+        )
+    if pair is True and cmm is not None:
+        fail(
+            "--cmm is a single cam's scan; this design is a conjugate pair: give --cmm-a and"
+            " --cmm-b"
+        )
+    if cmm is not None and (cmm_a is not None or cmm_b is not None):
+        fail("--cmm is a single cam's scan: leave out --cmm-a and --cmm-b")
     if (cmm_a is None) != (cmm_b is None):
         fail("--cmm-a and --cmm-b go together: give the scans of both cams")
-    if cmm_a is not None:
+    if cmm_a is not None or cmm is not None:
         return
     for flag, value, default in (
         ("--cmm-stylus-radius-mm", cmm_stylus_mm, 0.0),

@@ -6,6 +6,10 @@ and schema checked), the record(s) of a run with its raw inputs and options
 (:func:`cmm_prepared`, :func:`fixture_prepared`: built and checked before any output file,
 a duplicate refused there), and the one transaction that stores them last
 (:func:`add_records`). Documented in docs/records.md.
+
+Why one module: every part is the part's identity on its way into the store: the
+options that state it (the ``[traceability]`` names and their old aliases), the checks
+of its text and date, and the records built from it and written with it.
 """
 
 from __future__ import annotations
@@ -34,6 +38,8 @@ __all__ = [
     "Prepared",
     "add_records",
     "check_store_options",
+    "check_trace_text",
+    "report_traceability",
     "cmm_prepared",
     "fixture_prepared",
     "open_for_reading",
@@ -75,8 +81,15 @@ def store_options(f: F) -> F:
     ----------
     f : callable
         The click command function; it receives the options as ``store_store``,
-        ``store_part``, ``store_serial``, ``store_lot``, ``store_inspector``,
-        ``store_instrument``, ``store_inspected_at`` and ``store_allow_duplicate``.
+        ``store_part``, ``store_drawing_number``, ``store_revision``, ``store_serial``,
+        ``store_lot``, ``store_inspector``, ``store_instrument``, ``store_inspected_at`` and
+        ``store_allow_duplicate`` (and the hidden old names ``store_old_part``,
+        ``store_old_inspected_at``, merged by :func:`check_store_options`).
+
+    The names are those of the ``[traceability]`` table and ``camtol report``
+    (``--part-number``, ``--date``; issue 31); ``--part`` and ``--inspected-at`` are
+    hidden aliases that warn. The part's identity applies with or without ``--store``
+    (printed in ``--report`` and ``--json``).
 
     Returns
     -------
@@ -90,20 +103,117 @@ def store_options(f: F) -> F:
         help="Store the record although the same raw data is already recorded for this"
         " serial and cam (with --store).",
     )(f)
-    for name, text in reversed(
+    for name, dest, text in reversed(
         [
-            ("--store", STORE_HELP + " Records each inspected cam there."),
-            ("--part", "Part number of the inspected part (with --store)."),
-            ("--serial", "Serial number of the part (with --store)."),
-            ("--lot", "Production lot of the part (with --store)."),
-            ("--inspector", "Who inspected it (with --store)."),
-            ("--instrument", "Instrument used (with --store)."),
-            ("--inspected-at", "When, ISO 8601 with a time zone (with --store; default now)."),
+            ("--store", "store_store", STORE_HELP + " Records each inspected cam there."),
+            ("--part-number", "store_part", "Part number of the inspected part."),
+            ("--drawing-number", "store_drawing_number", "Drawing number of the part."),
+            ("--revision", "store_revision", "Drawing revision."),
+            ("--serial", "store_serial", "Serial number of the part."),
+            ("--lot", "store_lot", "Production lot of the part."),
+            ("--inspector", "store_inspector", "Who inspected it."),
+            ("--instrument", "store_instrument", "Instrument used."),
+            ("--date", "store_inspected_at", "When, ISO 8601 with a time zone (default now)."),
         ]
     ):
-        dest = "store_" + name.lstrip("-").replace("-", "_")
         f = click.option(name, dest, metavar="TEXT" if name != "--store" else "DB", help=text)(f)
+    for old, dest in (("--part", "store_old_part"), ("--inspected-at", "store_old_inspected_at")):
+        f = click.option(old, dest, metavar="TEXT", hidden=True)(f)
     return f
+
+
+#: Old option names kept as hidden aliases: (dest, old flag, new flag, new dest).
+_ALIASES = (
+    ("store_old_part", "--part", "--part-number", "store_part"),
+    ("store_old_inspected_at", "--inspected-at", "--date", "store_inspected_at"),
+)
+#: Options that only mean something with --store.
+_STORE_ONLY = ("store_allow_duplicate",)
+
+
+def _merge_aliases(opts: dict[str, Any]) -> None:
+    """Move a hidden old option's value to its new name, with a warning (in place)."""
+    for dest, old, new, target in _ALIASES:
+        value = opts.pop(dest, None)
+        if value is None:
+            continue
+        if opts.get(target) is not None:
+            fail(f"{old} is the old name of {new}: give {new} once")
+        click.echo(f"camtol: warning: {old} is renamed {new}; {old} will be removed", err=True)
+        opts[target] = value
+
+
+def _check_text(opts: dict[str, Any]) -> None:
+    """Refuse traceability text that is too long or holds control characters."""
+    for key, value in opts.items():
+        if key in ("store_store", "store_inspected_at", "store_allow_duplicate"):
+            continue
+        if not isinstance(value, str):
+            continue
+        bad = [c for c in value if ord(c) < 32 or 127 <= ord(c) < 160]
+        if len(value) > 200 or bad:
+            flag = _flag(key)
+            what = f"{len(value)} characters" + (
+                f", with control character U+{ord(bad[0]):04X}" if bad else ""
+            )
+            fail(
+                f"{flag}={value[:20]!r}... ({what}): allowed text of at most 200 characters"
+                " without control characters"
+            )
+
+
+def check_trace_text(values: dict[str, str | None]) -> None:
+    """Refuse traceability text (flag → value) that is too long or holds control characters.
+
+    Parameters
+    ----------
+    values : dict
+        Option name (``--part-number``) → its value (None: not given).
+    """
+    for flag, value in values.items():
+        if value is None:
+            continue
+        bad = [c for c in value if ord(c) < 32 or 127 <= ord(c) < 160]
+        if len(value) > 200 or bad:
+            what = f"{len(value)} characters" + (
+                f", with control character U+{ord(bad[0]):04X}" if bad else ""
+            )
+            fail(
+                f"{flag}={value[:20]!r}... ({what}): allowed text of at most 200 characters"
+                " without control characters"
+            )
+
+
+def _flag(key: str) -> str:
+    names = {"store_part": "--part-number", "store_inspected_at": "--date"}
+    return names.get(key) or "--" + key.removeprefix("store_").replace("_", "-")
+
+
+def report_traceability(opts: dict[str, Any]) -> dict[str, str]:
+    """Return the part's identity for a report (keys of the ``[traceability]`` table).
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`store_options` (checked by :func:`check_store_options`).
+
+    Returns
+    -------
+    dict of str to str
+        ``part_number``, ``drawing_number``, ``revision``, ``serial``, ``lot``,
+        ``inspector``, ``instrument``, ``date`` (those given; ``date`` as given, ISO 8601).
+    """
+    keys = {
+        "store_part": "part_number",
+        "store_drawing_number": "drawing_number",
+        "store_revision": "revision",
+        "store_serial": "serial",
+        "store_lot": "lot",
+        "store_inspector": "inspector",
+        "store_instrument": "instrument",
+        "store_inspected_at": "date",
+    }
+    return {keys[k]: str(v) for k, v in opts.items() if k in keys and v is not None}
 
 
 def traceability(opts: dict[str, Any]) -> Traceability:
@@ -126,9 +236,9 @@ def traceability(opts: dict[str, Any]) -> Traceability:
         try:
             at = datetime.fromisoformat(when.replace("Z", "+00:00"))
         except ValueError:
-            fail(f"--inspected-at={when!r}: allowed ISO 8601, e.g. 2026-11-23T12:00:00+00:00")
+            fail(f"--date={when!r}: allowed ISO 8601, e.g. 2026-11-23T12:00:00+00:00")
         if at.tzinfo is None:
-            fail(f"--inspected-at={when!r}: give a time zone, e.g. 2026-11-23T12:00:00+00:00")
+            fail(f"--date={when!r}: give a time zone, e.g. 2026-11-23T12:00:00+00:00")
     return Traceability(
         part_number=opts.get("store_part") or "",
         serial=opts.get("store_serial") or "",
@@ -158,24 +268,15 @@ def check_store_options(opts: dict[str, Any]) -> str | None:
     str or None
         The store's location, None without ``--store``.
     """
-    given = [k for k, v in opts.items() if v not in (None, False) and k != "store_store"]
+    _merge_aliases(opts)
+    _check_text(opts)  # the store's rule for text fields, before any work
+    traceability(opts)  # validate the date before the analysis
     location = opts.get("store_store")
     if location is None:
+        given = [k for k in _STORE_ONLY if opts.get(k) not in (None, False)]
         if given:
-            flag = "--" + given[0].removeprefix("store_").replace("_", "-")
-            fail(f"{flag} describes the part for the store: give --store DB as well")
+            fail(f"{_flag(given[0])} applies to a stored record: give --store DB as well")
         return None
-    for key, value in opts.items():  # the store's rule for text fields, before any work
-        if key in ("store_store", "store_inspected_at", "store_allow_duplicate"):
-            continue
-        if value is not None and (len(value) > 200 or "\x00" in value):
-            flag = "--" + key.removeprefix("store_").replace("_", "-")
-            what = f"{len(value)} characters" + (", with a NUL" if "\x00" in value else "")
-            fail(
-                f"{flag}={value[:20]!r}... ({what}): allowed text of at most 200 characters"
-                " without NUL"
-            )
-    traceability(opts)  # validate the date before the analysis
     from camtol.records.schema import sqlite_path
     from camtol.records.store import open_store, store_url
 

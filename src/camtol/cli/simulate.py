@@ -41,11 +41,33 @@ def simulate() -> None:
     help="Which cam of a conjugate pair.",
 )
 @click.option(
-    "--points",
+    "--n-points",
+    "points",
     type=Number(low=36, integer=True),  # camtol.inspection.cmm.MIN_POINTS
     default=3600,
     show_default=True,
     help="Profile points.",
+)
+@click.option("--points", "old_points", type=int, hidden=True)
+@click.option(
+    "--bore-points",
+    type=Number(low=0, high=100_000, integer=True),
+    default=0,
+    show_default=True,
+    help="Also write this many points on the bore (flagged bore=1; at least 3).",
+)
+@click.option(
+    "--bore-radius-mm",
+    type=Number(low=0, unit="mm"),
+    help="Bore radius (default: 40 % of the cam's smallest radius) [mm].",
+)
+@click.option(
+    "--keyway",
+    "keyway_deg",
+    type=Number(low=-360, high=360, unit="deg"),
+    metavar="DEG",
+    help="Also write a keyway point (keyway=1) at this nominal polar angle [deg];"
+    " inspect with --datum bore --keyway-deg DEG.",
 )
 @click.option(
     "--noise-um",
@@ -118,6 +140,10 @@ def simulate_cmm(
     output: str,
     cam: str,
     points: int,
+    old_points: int | None,
+    bore_points: int,
+    bore_radius_mm: float | None,
+    keyway_deg: float | None,
     noise_um: float,
     seed: int,
     stylus_mm: float,
@@ -132,11 +158,24 @@ def simulate_cmm(
     """Simulate a CMM scan of a cam (digital twin) with its truth in SCAN.truth.json."""
 
     def body() -> int:
+        nonlocal points
         check_output_path(output, "--output", [".csv", ".txt"])
+        if old_points is not None:  # the old name of --n-points (a count, not a file)
+            ctx = click.get_current_context()
+            if ctx.get_parameter_source("points") is click.core.ParameterSource.COMMANDLINE:
+                fail("--points is the old name of --n-points: give --n-points once")
+            if old_points < 36:
+                fail(f"--points={old_points} is not allowed; give --n-points ≥ 36")
+            click.echo("camtol: warning: --points is renamed --n-points", err=True)
+            points = old_points
+        if keyway_deg is not None and bore_points < 3:
+            fail("--keyway is cut in the bore: give --bore-points N (N ≥ 3) as well")
+        if 0 < bore_points < 3:
+            fail(f"--bore-points={bore_points} is not allowed; give 0 or at least 3")
         if outliers > points // 10:  # camtol.inspection.twin: a tenth of the points at most
             fail(
                 f"--outliers={outliers} is not allowed; give a whole number from 0 to"
-                f" {points // 10} (a tenth of --points)"
+                f" {points // 10} (a tenth of --n-points)"
             )
         from camtol.files import atomic_write
         from camtol.inspection.twin import random_profile_error, scan_csv_text, simulate_scan
@@ -158,6 +197,9 @@ def simulate_cmm(
             outliers=outliers,
             profile_error=err,
             error_kind=error_kind,  # type: ignore[arg-type]
+            bore_points=bore_points,
+            bore_radius_mm=bore_radius_mm,
+            keyway_deg=keyway_deg,
         )
         p = Path(output)
         truth = p.with_name(p.stem + ".truth.json")

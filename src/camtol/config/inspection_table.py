@@ -5,6 +5,15 @@ length within ±10 mm, Δη within ±10°) turns the table into the frozen
 :class:`camtol.pair.fixture_spec.FixtureSpec` on the design. Messages name the field as
 the user wrote it (``inspection.tolerance_a_um``), its value and what is allowed. The
 table's fields are listed in :mod:`camtol.pair.fixture_spec`.
+
+The CMM profile zone (ISO 1101, issue 31; :mod:`camtol.inspection.zone`) is stated in the
+same table, for any design: ``profile_tolerance_um`` (t), or ``profile_tolerance``
+(a grade), with an optional ``profile_offset_um`` (UZ), or ``limits_um = [lo, hi]``; for
+a conjugate pair per cam with ``_a``/``_b`` (``profile_tolerance_a_um``, ...). A table
+with no fixture key (``tolerance_a_um``, ``dl_a_um``, ...) becomes a
+:class:`~camtol.inspection.zone.ZoneTable`; otherwise the fixture's
+:class:`FixtureSpec` carries the zones beside its own radial bands, which keep their
+meaning ([CW11] §4.3) and are never the CMM zone.
 """
 
 from __future__ import annotations
@@ -19,6 +28,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 from camtol.exceptions import DesignError
 from camtol.inspection.error_functions import ErrorFunction, parse_error_function
 from camtol.inspection.units import MAX_ANGLE_ERROR_DEG, MAX_ERROR_UM
+from camtol.inspection.zone import ZoneSpec, ZoneTable
 from camtol.pair.fixture_spec import FixtureErrors, FixtureSpec
 
 __all__ = ["fixture_spec_from_mapping"]
@@ -39,6 +49,19 @@ _ALLOWED: dict[str, str] = {
     "master_b_um": _FUNCTION,
     "df_mea_um": _FUNCTION,
 }
+_ZONE_ALLOWED = {
+    "profile_tolerance{c}_um": "the zone width t > 0 in µm (ISO 1101: ±t/2 about the nominal)",
+    "profile_tolerance{c}": "an IT grade such as 'IT7' (t = that grade at the largest radius)",
+    "profile_offset{c}_um": "the zone offset UZ in µm (> 0 outwards), |UZ| < t/2",
+    "limits{c}_um": "[lower, upper] in µm with lower < upper, e.g. [-15, 15]",
+}
+for _c in ("", "_a", "_b"):
+    _ALLOWED.update({k.format(c=_c): v for k, v in _ZONE_ALLOWED.items()})
+#: Keys of the measuring fixture (a table without any is a zone-only table).
+_FIXTURE_KEYS = frozenset(
+    ("tolerance_a_um", "tolerance_b_um", "dl_a_um", "dl_b_um", "drr_c_um", "drr_d_um")
+    + ("deta_deg", "master_a_um", "master_b_um", "df_mea_um")
+)
 
 
 class _InspectionSchema(BaseModel):
@@ -46,8 +69,20 @@ class _InspectionSchema(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
-    tolerance_a_um: list[float]
+    tolerance_a_um: list[float] | None = None
     tolerance_b_um: list[float] | None = None
+    profile_tolerance_um: float | None = None
+    profile_tolerance_a_um: float | None = None
+    profile_tolerance_b_um: float | None = None
+    profile_tolerance: str | None = None
+    profile_tolerance_a: str | None = None
+    profile_tolerance_b: str | None = None
+    profile_offset_um: float | None = None
+    profile_offset_a_um: float | None = None
+    profile_offset_b_um: float | None = None
+    limits_um: list[float] | None = None
+    limits_a_um: list[float] | None = None
+    limits_b_um: list[float] | None = None
     dl_a_um: float = 0.0
     dl_b_um: float = 0.0
     drr_c_um: float = 0.0
@@ -110,7 +145,7 @@ def _function(value: Any, base_dir: Path | None) -> Any:
 
 def fixture_spec_from_mapping(
     raw: Mapping[str, Any], *, base_dir: Path | None = None, prefix: str = "inspection."
-) -> FixtureSpec:
+) -> FixtureSpec | ZoneTable:
     """Validate a design file's ``[inspection]`` table into a :class:`FixtureSpec`.
 
     Parameters
@@ -124,8 +159,9 @@ def fixture_spec_from_mapping(
 
     Returns
     -------
-    FixtureSpec
-        The typed, frozen spec.
+    FixtureSpec or ZoneTable
+        The typed, frozen spec (with the CMM zones, if any); a
+        :class:`~camtol.inspection.zone.ZoneTable` for a table that states only zones.
 
     Raises
     ------
@@ -141,6 +177,16 @@ def fixture_spec_from_mapping(
         m = _InspectionSchema.model_validate(dict(raw))
     except ValidationError as exc:
         raise DesignError(_validation_message(exc, raw, prefix)) from None
+    zones = _zones(m, raw, prefix)
+    if not _FIXTURE_KEYS.intersection(raw):
+        if not zones:
+            raise DesignError(
+                f"{prefix.rstrip('.')} states nothing; give {prefix}profile_tolerance_um"
+                " (the CMM zone) or the fixture's inputs (tolerance_a_um, ...)"
+            )
+        return ZoneTable(zones, table=tuple(dict(raw).items()))
+    if m.tolerance_a_um is None:
+        raise DesignError(f"{prefix}tolerance_a_um is missing; give {_ALLOWED['tolerance_a_um']}")
     tol_a = _band(m.tolerance_a_um, "tolerance_a_um", prefix, raw.get("tolerance_a_um"))
     tol_b = (
         tol_a
@@ -174,4 +220,82 @@ def fixture_spec_from_mapping(
         functions.get("master_b_um", zero),
         functions.get("df_mea_um"),
         table=tuple(given.items()),
+        profile_zones=ZoneTable(zones, table=()) if zones else None,
     )
+
+
+def _zones(m: _InspectionSchema, raw: Mapping[str, Any], prefix: str) -> dict[str, ZoneSpec]:
+    """Return the CMM profile zone of each cam the table states one for (ISO 1101).
+
+    Unsuffixed keys state the zone of a single cam, or of both cams of a pair; ``_a`` /
+    ``_b`` keys state one cam's (and win over the unsuffixed ones for that cam).
+    """
+    out: dict[str, ZoneSpec] = {}
+    for suffix, cams in (("", ("A", "B")), ("_a", ("A",)), ("_b", ("B",))):
+        width = getattr(m, f"profile_tolerance{suffix}_um")
+        grade = getattr(m, f"profile_tolerance{suffix}")
+        offset = getattr(m, f"profile_offset{suffix}_um")
+        limits = getattr(m, f"limits{suffix}_um")
+        names = {
+            "width": f"{prefix}profile_tolerance{suffix}_um",
+            "grade": f"{prefix}profile_tolerance{suffix}",
+            "offset": f"{prefix}profile_offset{suffix}_um",
+            "limits": f"{prefix}limits{suffix}_um",
+        }
+        if width is None and grade is None and limits is None:
+            if offset is not None:
+                raise DesignError(
+                    f"{names['offset']}={offset!r} needs the zone width: give"
+                    f" {names['width']} (or {names['grade']}) as well"
+                )
+            continue
+        if width is not None and grade is not None:
+            raise DesignError(
+                f"{names['grade']}={grade!r} and {names['width']}={width!r} both state t;"
+                " give one of them"
+            )
+        if limits is not None and (width is not None or grade is not None or offset is not None):
+            other = names["width"] if width is not None else names["grade"]
+            if width is None and grade is None:
+                other = names["offset"]
+            raise DesignError(
+                f"{names['limits']} and {other} both state the zone; give either"
+                " profile_tolerance_um (with profile_offset_um) or limits_um"
+            )
+        spec: ZoneSpec
+        if limits is not None:
+            lo, hi = _band(limits, f"limits{suffix}_um", prefix, raw.get(f"limits{suffix}_um"))
+            spec = ZoneSpec(names["limits"], limits_um=(lo, hi))
+        else:
+            if grade is not None:
+                from camtol import iso286
+                from camtol.exceptions import ToleranceGradeError
+
+                try:
+                    grade = iso286.parse_grade(grade)
+                except ToleranceGradeError:
+                    raise DesignError(
+                        f"{names['grade']}={_shown(grade)} is not allowed; give"
+                        f" {_ALLOWED[f'profile_tolerance{suffix}']}"
+                    ) from None
+            if width is not None and not (math.isfinite(width) and 0 < width <= MAX_ERROR_UM):
+                raise DesignError(
+                    f"{names['width']}={_shown(width)} is not allowed; give"
+                    f" {_ALLOWED[f'profile_tolerance{suffix}_um']}, at most {MAX_ERROR_UM:g}"
+                )
+            off = 0.0 if offset is None else float(offset)
+            if width is not None and not (math.isfinite(off) and abs(off) < 0.5 * width):
+                raise DesignError(
+                    f"{names['offset']}={_shown(offset)} is not allowed; give"
+                    f" {_ALLOWED[f'profile_offset{suffix}_um']} (t/2 = {0.5 * width:g} µm)"
+                )
+            if not math.isfinite(off) or abs(off) > MAX_ERROR_UM:
+                raise DesignError(
+                    f"{names['offset']}={_shown(offset)} is not allowed; give"
+                    f" {_ALLOWED[f'profile_offset{suffix}_um']}"
+                )
+            key = names["grade"] if grade is not None else names["width"]
+            spec = ZoneSpec(key, width_um=width, grade=grade, offset_um=off)
+        for cam in cams:
+            out[cam] = spec
+    return out

@@ -4,6 +4,11 @@ Tolerances follow the papers' conventions (THEORY §3.6): a tolerance "of grade 
 deviation equal to the full IT value; the nominal size of the profile tolerance is the
 cam's maximum radial dimension; an angle's grade applies the IT table to its number of
 degrees and reads the result in thousandths of a degree (not defined by ISO 286).
+
+Why one module: it is the design (:class:`CamDesign`) with its validation, the tolerances
+it carries (:class:`ToleranceSpec` and their resolution into deviations) and the single
+cams it is made of (:class:`Cam`); a tolerance is checked against the design's sources and
+sizes when the design is made, so the three change together.
 """
 
 from __future__ import annotations
@@ -111,8 +116,20 @@ class InspectionTable(Protocol):
         """Return the table as validated (field name -> value)."""
         ...  # a Protocol's method: implemented by the table's type
 
-    def band_um(self, cam: str) -> tuple[float, float]:
+    def band_um(self, cam: str) -> tuple[float, float] | None:
         """Return the radial tolerance band (lower, upper) of the cam named ``cam``. [µm]
+
+        Parameters
+        ----------
+        cam : str
+            The cam's letter (:attr:`Cam.letter`).
+        """
+        ...
+
+    def profile_zone(self, cam: str) -> Any:
+        """Return the CMM profile zone the table states for cam ``cam`` (or None).
+
+        What it is belongs to :mod:`camtol.inspection.zone` (``ZoneSpec``).
 
         Parameters
         ----------
@@ -166,6 +183,9 @@ class CamDesign:
                     f"tolerances.{t.key} is not an error source of a {self.mechanism.kind}"
                     f" follower; allowed: {', '.join(sorted(keys))}"
                 )
+        for t in self.tolerances:  # a grade that no profile can make applicable: now
+            if t.grade is not None:
+                self._check_grade(t.key, t.grade)
         for label, cam in self.mechanism.cams():  # one tolerance per source of each cam
             named: dict[str, str] = {}
             for t in self.tolerances:  # a grade on a source that takes none (η), at once
@@ -194,6 +214,55 @@ class CamDesign:
 
     def _unit(self, key: str) -> str:
         return next(s.unit for s in self.sources if s.key == key)
+
+    def grade_nominal_size(self, key: str, max_radius_mm: float) -> float:
+        """Nominal size of source ``key`` for an IT grade (THEORY §3.6).
+
+        Parameters
+        ----------
+        key : str
+            Error-source key of the design.
+        max_radius_mm : float
+            Maximum radial dimension of the cam profile. [mm]
+
+        Returns
+        -------
+        float
+            The size. [mm, or deg for an angle]
+
+        Raises
+        ------
+        ValueError
+            If the source takes no IT grade.
+        """
+        dsrc = DESIGN_SOURCES.get(key)
+        if dsrc is not None:
+            return dsrc.nominal_size(self.mechanism, max_radius_mm)
+        return self.mechanism.nominal_size(key, max_radius_mm)
+
+    def _check_grade(self, key: str, grade: str) -> None:
+        """Refuse, when the design is made, a grade no cam profile can make applicable.
+
+        A size that does not depend on the profile (an offset, a pivot distance, a face
+        angle) is known now: checking it here makes every command (analyze, profile,
+        precision, cut, size...) accept or refuse the same design the same way, instead of
+        only those that resolve tolerances (:meth:`resolve_tolerances`). Profile-sized
+        sources (r, n) are checked there, once the profile is known.
+        """
+        unit = self._unit(key)
+        try:
+            size = self.grade_nominal_size(key, 1.0)
+            if size == self.grade_nominal_size(key, 2.0):  # not the profile's size
+                if unit == "mm":
+                    iso286.tolerance_um(grade, size)
+                else:
+                    iso286.angle_tolerance_deg(grade, size)
+        except ValueError as exc:
+            raise DesignError(
+                f"tolerances.{key}={grade!r} cannot be applied: {exc}; give"
+                f" tolerances.{key}_{'um' if unit == 'mm' else 'deg'} as an explicit deviation"
+                " instead"
+            ) from None
 
     @property
     def sources(self) -> tuple[ErrorSource, ...]:

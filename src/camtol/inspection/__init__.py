@@ -17,15 +17,38 @@ still readable here, with a :class:`DeprecationWarning`, until camtol 0.3.
 
 from __future__ import annotations
 
-from typing import Any
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
 
 from camtol import _compat
-from camtol.inspection.cmm import Scan, read_scan
-from camtol.inspection.deviations import CamProfile, CmmInspection, cam_profile, inspect_scan
-from camtol.inspection.error_functions import ErrorFunction, parse_error_function
-from camtol.inspection.functional import FunctionalDeviation, functional_deviation
-from camtol.inspection.registration import Datum, Registration
-from camtol.inspection.twin import SimulatedScan, simulate_scan
+
+if TYPE_CHECKING:  # pragma: no cover - what the lazy names resolve to, for type checkers
+    from camtol.inspection.cmm import Scan, read_scan
+    from camtol.inspection.deviations import CamProfile, CmmInspection, cam_profile, inspect_scan
+    from camtol.inspection.error_functions import ErrorFunction, parse_error_function
+    from camtol.inspection.functional import FunctionalDeviation, functional_deviation
+    from camtol.inspection.registration import Datum, Registration
+    from camtol.inspection.twin import SimulatedScan, simulate_scan
+
+#: Public name -> module that defines it, imported on first use (PEP 562): a design file's
+#: ``[inspection]`` table needs two of these modules, not the registration and contact
+#: machinery behind the others (issue 32: start-up of ``camtol analyze``).
+_LAZY = {
+    "Scan": "camtol.inspection.cmm",
+    "read_scan": "camtol.inspection.cmm",
+    "CamProfile": "camtol.inspection.deviations",
+    "CmmInspection": "camtol.inspection.deviations",
+    "cam_profile": "camtol.inspection.deviations",
+    "inspect_scan": "camtol.inspection.deviations",
+    "ErrorFunction": "camtol.inspection.error_functions",
+    "parse_error_function": "camtol.inspection.error_functions",
+    "FunctionalDeviation": "camtol.inspection.functional",
+    "functional_deviation": "camtol.inspection.functional",
+    "Datum": "camtol.inspection.registration",
+    "Registration": "camtol.inspection.registration",
+    "SimulatedScan": "camtol.inspection.twin",
+    "simulate_scan": "camtol.inspection.twin",
+}
 
 __all__ = [
     "CamProfile",
@@ -46,5 +69,15 @@ __all__ = [
 
 
 def __getattr__(name: str) -> Any:
-    """Return a name moved to :mod:`camtol.pair` (the fixture), with a warning."""
-    return _compat.moved_name(__name__, name)
+    """Import a public name on first use; a name moved to :mod:`camtol.pair`, with a warning."""
+    module = _LAZY.get(name)
+    if module is None:
+        return _compat.moved_name(__name__, name)
+    value = getattr(import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    """List the module attributes, including the lazy public names."""
+    return sorted(set(globals()) | set(_LAZY))

@@ -9,9 +9,14 @@ profile and the deviations are in :mod:`camtol.inspection.registration` and
 File form (read by :func:`camtol.tables.read_table`): a header line naming the columns
 with their unit, ``x_mm, y_mm`` (optionally ``z_mm``; ``_um`` and ``_in`` are accepted, one
 unit for all coordinates), optional ``bore`` (1 for a point measured on the bore, used by
-the bore datum) and ``cam`` (1 for cam A, 2 for cam B, for a file holding both cams of a
-conjugate pair); ``#`` comments; ``,``/``;``/blank separators. Other header names can be
-mapped onto these with ``aliases`` (``{"X": "x_mm"}``).
+the bore datum), ``keyway`` (1 for a point on the keyway, the angular datum) and ``cam``
+(1 for cam A, 2 for cam B, for a file holding both cams of a conjugate pair); ``#``
+comments; ``,``/``;``/blank separators. Other header names can be mapped onto these
+with ``aliases`` (``{"X": "x_mm"}``). A header comment that states the
+stylus radius (``# stylus_radius_mm = 1.5``, or camtol's own ``# stylus-ball centres:
+inspect with --stylus-radius-mm 1.5``) is read by :func:`header_stylus_radius_mm`.
+
+A DMIS output file (``.dmi``, ``.dmo``) is read by :mod:`camtol.inspection.dmis`.
 
 References
 ----------
@@ -27,22 +32,26 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from camtol.exceptions import InputFileError
+from camtol.inspection.dmis import DMIS_SUFFIXES, read_dmis_points
 from camtol.jet import FloatArray
 from camtol.tables import Table, read_table
 
 __all__ = [
     "CamLabel",
+    "DMIS_SUFFIXES",
     "MIN_POINTS",
     "Scan",
     "check_coverage",
     "compensate_stylus",
+    "header_stylus_radius_mm",
     "local_normals",
+    "read_dmis_points",
     "read_scan",
 ]
 
@@ -56,6 +65,11 @@ MAX_GAP_DEG = 20.0
 _UNIT_MM = {"mm": 1.0, "um": 1e-3, "µm": 1e-3, "μm": 1e-3, "in": 25.4}
 _COORD = re.compile(r"^([xyz])_(mm|um|µm|μm|in)$", re.IGNORECASE)
 _CAM_CODES = {"A": 1, "B": 2}
+
+_HEADER_STYLUS = (
+    re.compile(r"stylus[ _-]?(?:ball[ _-]?)?radius(?:[ _-]?mm)?\s*[:=]\s*([0-9.eE+-]+)", re.I),
+    re.compile(r"--stylus-radius-mm[ =]([0-9.eE+-]+)", re.I),
+)
 
 
 @dataclass(frozen=True)
@@ -84,11 +98,24 @@ class Scan:
     rows: NDArray[np.intp]
     stylus_radius_mm: float = 0.0
     _table: Table | None = None
+    _lines: NDArray[np.intp] | None = None
+    keyway: NDArray[np.bool_] | None = None
+
+    @property
+    def feature(self) -> NDArray[np.bool_]:
+        """Points on a datum feature (bore or keyway), not on the profile."""
+        return self.bore if self.keyway is None else (self.bore | self.keyway)
+
+    def keyway_point(self) -> tuple[float, float] | None:
+        """Centroid of the points flagged keyway, or None. [mm]"""
+        if self.keyway is None or not np.any(self.keyway):
+            return None
+        return float(np.mean(self.x_mm[self.keyway])), float(np.mean(self.y_mm[self.keyway]))
 
     @property
     def size(self) -> int:
-        """Number of profile points (bore points excluded)."""
-        return int(np.count_nonzero(~self.bore))
+        """Number of profile points (bore and keyway points excluded)."""
+        return int(np.count_nonzero(~self.feature))
 
     def line_of(self, index: int) -> int:
         """File line (1-based) of point ``index``; 0 when unknown.
@@ -98,13 +125,15 @@ class Scan:
         index : int
             Index into the scan's arrays.
         """
+        if self._lines is not None:
+            return int(self._lines[int(self.rows[index])])
         if self._table is None:
             return 0
         return self._table.line_of(int(self.rows[index]))
 
     def profile_points(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-        """Return the profile points (bore excluded) and their indices into the scan. [mm]"""
-        idx = np.flatnonzero(~self.bore)
+        """Return the profile points (bore, keyway excluded) and their scan indices. [mm]"""
+        idx = np.flatnonzero(~self.feature)
         return self.x_mm[idx], self.y_mm[idx], idx
 
 
@@ -167,15 +196,33 @@ def read_scan(
     InputFileError
         Naming the file (and the line where it applies): missing or unit-less coordinate
         columns, mixed units, non-numbers or NaN, duplicate points, a bad ``cam`` or
-        ``bore`` value, too few points.
+        ``bore`` value, too few points; for DMIS (``.dmi``, ``.dmo``): no measured point,
+        an unknown unit, a malformed point, or ``aliases`` given.
     """
     if not (math.isfinite(stylus_radius_mm) and stylus_radius_mm >= 0):
         raise InputFileError(
             f"stylus radius {stylus_radius_mm!r} mm is not allowed; give a number ≥ 0 mm"
         )
+    if Path(path).suffix.lower() in DMIS_SUFFIXES:
+        if aliases:
+            raise InputFileError(
+                f"{path}: --columns maps CSV column names; a DMIS file has none (leave it out)"
+            )
+        x, y, bore, lines = read_dmis_points(path)
+        source = str(path)
+        rows = np.arange(x.size, dtype=np.intp)
+        _check_duplicates(source, x, y, lambda i: int(lines[i]))
+        n_profile = int(np.count_nonzero(~bore))
+        if n_profile < MIN_POINTS:
+            raise InputFileError(
+                f"{source}: {n_profile} profile point(s); a scan needs at least"
+                f" {MIN_POINTS} points round the cam"
+            )
+        scan = Scan(source, x, y, bore, rows, 0.0, None, lines)
+        return compensate_stylus(scan, stylus_radius_mm) if stylus_radius_mm > 0 else scan
     table = read_table(
         path,
-        optional=("x_mm", "y_mm", "z_mm", "bore", "cam"),
+        optional=("x_mm", "y_mm", "z_mm", "bore", "keyway", "cam"),
         aliases=aliases,
         what="CMM scan",
     )
@@ -194,6 +241,17 @@ def read_scan(
                 " allowed; give 1 for a bore point, 0 for a profile point"
             )
         bore = b == 1
+    keyway = np.zeros(table.rows, dtype=bool)
+    if "keyway" in table:
+        kw = table.column("keyway")
+        bad = (kw != 0) & (kw != 1)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise InputFileError(
+                f"{table.source}, line {table.line_of(i)}: column 'keyway'={kw[i]:g} is not"
+                " allowed; give 1 for a keyway point, 0 otherwise"
+            )
+        keyway = (kw == 1) & ~bore
     if "cam" in table:
         c = table.column("cam")
         bad = (c != 1) & (c != 2)
@@ -210,31 +268,66 @@ def read_scan(
                     " choose one with --cam A or --cam B"
                 )
         else:
-            keep = (c == _CAM_CODES[cam]) | bore
-            x, y, bore, rows = x[keep], y[keep], bore[keep], rows[keep]
-    _check_duplicates(table, x, y, rows)
-    n_profile = int(np.count_nonzero(~bore))
+            keep = (c == _CAM_CODES[cam]) | bore | keyway
+            x, y, bore, rows, keyway = x[keep], y[keep], bore[keep], rows[keep], keyway[keep]
+    _check_duplicates(table.source, x, y, lambda i: table.line_of(int(rows[i])))
+    n_profile = int(np.count_nonzero(~(bore | keyway)))
     if n_profile < MIN_POINTS:
         raise InputFileError(
             f"{table.source}: {n_profile} profile point(s); a scan needs at least"
             f" {MIN_POINTS} points round the cam"
         )
-    scan = Scan(table.source, x, y, bore, rows, 0.0, table)
+    scan = Scan(table.source, x, y, bore, rows, 0.0, table, None, keyway)
     if stylus_radius_mm > 0:
         scan = compensate_stylus(scan, stylus_radius_mm)
     return scan
 
 
-def _check_duplicates(table: Table, x: FloatArray, y: FloatArray, rows: NDArray[np.intp]) -> None:
+def header_stylus_radius_mm(path: str | Path) -> float | None:
+    """Return the stylus radius a scan's header comments state, or None. [mm]
+
+    Recognised in the ``#`` comment lines before the first data line:
+    ``stylus_radius_mm = R``, ``stylus radius: R`` and camtol's own
+    ``--stylus-radius-mm R`` (:func:`camtol.inspection.twin.scan_csv_text`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV scan (a DMIS file has no such comment: None).
+    """
+    if Path(path).suffix.lower() in DMIS_SUFFIXES:
+        return None
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            head = [fh.readline() for _ in range(50)]
+    except OSError:
+        return None
+    for line in head:
+        text = line.strip()
+        if text and not text.startswith("#"):
+            break  # the header comments end at the first other line
+        for pattern in _HEADER_STYLUS:
+            m = pattern.search(text)
+            if m:
+                try:
+                    value = float(m.group(1))
+                except ValueError:
+                    continue
+                if math.isfinite(value) and value >= 0:
+                    return value
+    return None
+
+
+def _check_duplicates(source: str, x: FloatArray, y: FloatArray, line_of: Any) -> None:
+    """Refuse a point given twice, naming both lines (``line_of(i)``: point i's line)."""
     order = np.lexsort((y, x))
     same = (np.diff(x[order]) == 0) & (np.diff(y[order]) == 0)
     if np.any(same):
         k = int(np.argmax(same))
         i, j = sorted((int(order[k]), int(order[k + 1])))
         raise InputFileError(
-            f"{table.source}, line {table.line_of(int(rows[j]))}: duplicate point"
-            f" ({x[j]:g}, {y[j]:g}) mm, same as line {table.line_of(int(rows[i]))};"
-            " every point once"
+            f"{source}, line {line_of(j)}: duplicate point ({x[j]:g}, {y[j]:g}) mm, same as"
+            f" line {line_of(i)}; every point once"
         )
 
 
@@ -354,7 +447,7 @@ def compensate_stylus(scan: Scan, radius_mm: float) -> Scan:
         The surface points, ``stylus_radius_mm`` set.
     """
     x, y = scan.x_mm.copy(), scan.y_mm.copy()
-    prof = np.flatnonzero(~scan.bore)
+    prof = np.flatnonzero(~scan.feature)
     nx, ny = local_normals(x[prof], y[prof])
     x[prof] -= radius_mm * nx
     y[prof] -= radius_mm * ny
@@ -365,7 +458,9 @@ def compensate_stylus(scan: Scan, radius_mm: float) -> Scan:
         r = np.hypot(dx, dy)
         x[bore] += radius_mm * dx / r
         y[bore] += radius_mm * dy / r
-    return Scan(scan.source, x, y, scan.bore, scan.rows, radius_mm, scan._table)
+    return Scan(
+        scan.source, x, y, scan.bore, scan.rows, radius_mm, scan._table, scan._lines, scan.keyway
+    )
 
 
 def fit_circle(x_mm: FloatArray, y_mm: FloatArray) -> tuple[float, float, float]:

@@ -15,9 +15,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from camtol.design.cam_design import CamDesign
-from camtol.exceptions import GeometryError
-from camtol.inspection.cmm import CamLabel, read_scan
+from camtol.exceptions import GeometryError, InputFileError
+from camtol.inspection.cmm import CamLabel, Scan, header_stylus_radius_mm, read_scan
 from camtol.inspection.deviations import (
     CamProfile,
     CmmInspection,
@@ -54,10 +56,10 @@ class CmmInputs:
     datum : Datum
         Registration (``--datum``, ``--datum-angle``, ``--datum-point``, ``--loss``).
     tolerance_um : (float, float), optional
-        Profile tolerance [lower, upper] (default: the design's). [µm]
+        An explicit profile zone [lower, upper] (default: the design's ISO 1101 zone,
+        :func:`~camtol.inspection.deviations.design_zone`). [µm]
     tolerance_kind : {"normal", "radial"}, optional
-        Whether it bounds Δn or Δr (default: the design's kind; normal for a tolerance
-        given here).
+        Whether the zone bounds Δn (default, ISO 1101) or Δr (a radial band, not ISO).
     harmonics : int
         Fourier cut-off of the smoothing of Δn for the follower error.
     step_deg : float
@@ -65,6 +67,10 @@ class CmmInputs:
     spec : float, optional
         Motion spec on max |ΔS| measured, in the unit of S (mm for a lift, rad for a
         swing). [mm or rad]
+    decision : {"simple", "guard-band"}
+        ISO 14253-1 decision rule of the profile verdict.
+    u_cmm_um : float, optional
+        The CMM's expanded uncertainty U (needed by ``guard-band``). [µm]
     """
 
     points_path: str
@@ -77,6 +83,8 @@ class CmmInputs:
     harmonics: int = DEFAULT_HARMONICS
     step_deg: float = 0.1
     spec: float | None = None
+    decision: str = "simple"
+    u_cmm_um: float | None = None
 
 
 @dataclass(frozen=True)
@@ -109,19 +117,27 @@ class CmmRun:
 
     @property
     def max_abs_ds_um(self) -> float | None:
-        """Max |ΔS| of the measured motion: µm for a lift, µrad for a swing (None if unknown)."""
+        """Max |ΔS| of a translating follower's measured motion (None for a swing). [µm]"""
         func = self.functional
-        if func is None:
+        if func is None or func.unit != "mm":
             return None
-        return func.max_abs_measured * (1e3 if func.unit == "mm" else 1e6)
+        return func.max_abs_measured * 1e3
+
+    @property
+    def max_abs_ds_deg(self) -> float | None:
+        """Max |ΔS| of an oscillating follower's measured motion (None for a lift). [deg]"""
+        func = self.functional
+        if func is None or func.unit == "mm":
+            return None
+        return float(np.degrees(func.max_abs_measured))
 
     @property
     def motion_unit(self) -> str | None:
-        """Unit of :attr:`max_abs_ds_um`: ``um`` (a lift) or ``urad`` (a swing)."""
+        """Unit of the follower error: ``um`` (a lift) or ``deg`` (a swing)."""
         func = self.functional
         if func is None:
             return None
-        return "um" if func.unit == "mm" else "urad"
+        return "um" if func.unit == "mm" else "deg"
 
 
 def run_cmm(design: CamDesign, inputs: CmmInputs, *, profile: CamProfile | None = None) -> CmmRun:
@@ -156,15 +172,15 @@ def run_cmm(design: CamDesign, inputs: CmmInputs, *, profile: CamProfile | None 
         stylus_radius_mm=inputs.stylus_radius_mm,
         aliases=None if inputs.aliases is None else dict(inputs.aliases),
     )
-    insp = inspect_scan(
-        design,
-        scan,
-        cam=inputs.cam,
-        datum=inputs.datum,
-        tolerance_um=inputs.tolerance_um,
-        tolerance_kind=inputs.tolerance_kind,
-        profile=prof,
-    )
+    try:
+        insp = _inspect(design, scan, inputs, prof)
+    except InputFileError as exc:
+        header = header_stylus_radius_mm(inputs.points_path)
+        if header is None or header == inputs.stylus_radius_mm:
+            raise
+        raise InputFileError(
+            f"{exc}; the header says stylus {header:g} mm: give --stylus-radius-mm {header:g}"
+        ) from None
     try:
         func = functional_deviation(
             prof, insp, step_deg=inputs.step_deg, harmonics=inputs.harmonics, spec=inputs.spec
@@ -172,6 +188,21 @@ def run_cmm(design: CamDesign, inputs: CmmInputs, *, profile: CamProfile | None 
     except GeometryError as exc:
         return CmmRun(prof, insp, None, str(exc))
     return CmmRun(prof, insp, func)
+
+
+def _inspect(design: CamDesign, scan: Scan, inputs: CmmInputs, prof: CamProfile) -> CmmInspection:
+    """Run the profile inspection of :func:`run_cmm`."""
+    return inspect_scan(
+        design,
+        scan,
+        cam=inputs.cam,
+        datum=inputs.datum,
+        tolerance_um=inputs.tolerance_um,
+        tolerance_kind=inputs.tolerance_kind,
+        profile=prof,
+        decision=inputs.decision,
+        u_cmm_um=inputs.u_cmm_um,
+    )
 
 
 def datum_to_mapping(datum: Datum) -> dict[str, Any]:
@@ -195,6 +226,7 @@ def datum_to_mapping(datum: Datum) -> dict[str, Any]:
         "point_mm": None if datum.point_mm is None else list(datum.point_mm),
         "point_angle_deg": datum.point_angle_deg,
         "loss": datum.loss,
+        "keyway_deg": datum.keyway_deg,
     }
 
 
@@ -219,4 +251,5 @@ def datum_from_mapping(data: Mapping[str, Any]) -> Datum:
         point_mm=None if point is None else (float(point[0]), float(point[1])),
         point_angle_deg=data.get("point_angle_deg"),
         loss=data.get("loss", "soft_l1"),
+        keyway_deg=data.get("keyway_deg"),
     )

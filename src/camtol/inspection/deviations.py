@@ -9,14 +9,23 @@ frame:
 - the profile form: the zone width max Δn − min Δn, and the minimum-zone value, the
   smallest width over the transforms the datum leaves free (a linear programme on the
   linearised deviations Δn + J δ, solved by :func:`scipy.optimize.linprog`);
-- the verdict against the design's profile tolerance [lower, upper] µm and the
+- the verdict against the profile zone (:mod:`camtol.inspection.zone`) and the
   polar-angle intervals where points fall outside it. Outliers (reported by index) do
   not enter the verdict.
 
-The profile tolerance is the design's ``tolerances.n`` (on Δn: ISO 1101's line-profile
-zone along the normal) or ``tolerances.r`` (on Δr, ± the resolved value; THEORY §3.6), or
-for a conjugate pair ``inspection.tolerance_a_um`` / ``tolerance_b_um`` (radial, THEORY
-§4.3), unless given explicitly (on Δn by default).
+The zone is the ISO 1101 profile of a line stated in the design's ``[inspection]`` table
+(``profile_tolerance_um`` = t: ±t/2 along the normal, optional UZ offset, or
+``limits_um``), or one given explicitly (``--tolerance-um``). It is never derived from the
+error-analysis tolerances (``tolerances.r`` is a deviation of a dimension, THEORY §3.6,
+not a zone; issue 31). A zone on Δr (``--tolerance-on dr``) is a radial band, not ISO
+1101, and is labelled so. Without a datum the zone **floats**: the verdict asks whether
+some placement of the fitted rigid modes puts every point in it
+(:func:`~camtol.inspection.zone.zone_placement`); a located datum fixes it.
+
+Why one module: every part turns one registered scan into its deviations and verdict:
+the cam's tabulated profile and its zone, the stylus check, the deviations Δn and Δr, the
+form and the minimum zone, the zone's placement and the failing angles of one
+:class:`CmmInspection`.
 """
 
 from __future__ import annotations
@@ -33,6 +42,7 @@ from camtol.exceptions import DesignError, GeometryError, InputFileError
 from camtol.inspection.cmm import CamLabel, Scan, check_coverage
 from camtol.inspection.profile_table import ProfileTable, profile_table
 from camtol.inspection.registration import Datum, Registration, register
+from camtol.inspection.zone import ProfileZone, ZoneSpec, zone_from_limits, zone_placement
 from camtol.jet import FloatArray
 from camtol.mechanisms.base import Mechanism
 
@@ -44,6 +54,7 @@ __all__ = [
     "inspect_scan",
     "minimum_zone",
     "ToleranceKind",
+    "design_zone",
     "profile_tolerance",
 ]
 
@@ -133,42 +144,57 @@ def check_stylus(profile: CamProfile, stylus_radius_mm: float) -> None:
         )
 
 
-def profile_tolerance(
-    design: CamDesign, cam: CamLabel = "A"
-) -> tuple[float, float, ToleranceKind] | None:
-    """Return the profile tolerance [lower, upper] of a cam and what it bounds, or None.
+def design_zone(design: CamDesign, cam: CamLabel = "A") -> ProfileZone | None:
+    """Return the CMM profile zone the design's ``[inspection]`` table states, or None.
 
-    ``inspection.tolerance_a_um`` / ``tolerance_b_um`` of a conjugate pair and
-    ``tolerances.r`` bound the radial deviation Δr (THEORY §0, §8.3); ``tolerances.n``
-    the normal deviation Δn.
+    A grade is resolved at the cam's largest radius. The error-analysis tolerances
+    (``tolerances.r``, ``tolerances.n``) are deviations, not zones, and are not used
+    (issue 31); a pair's fixture bands (``tolerance_a_um``) are not a CMM zone either.
 
     Parameters
     ----------
     design : CamDesign
-        The design (for a conjugate pair, the pair's design with its [inspection] table).
+        The design (for a conjugate pair, the pair's design).
     cam : {"A", "B"}
         Which cam.
 
     Returns
     -------
-    (float, float, str) or None
-        Lower and upper limit [µm] and ``"radial"`` or ``"normal"``.
+    ProfileZone or None
+        The zone on Δn, or None when the table states none.
     """
+    table = design.inspection
+    if table is None:
+        return None
+    spec = table.profile_zone(design.cam(cam).letter)
+    if not isinstance(spec, ZoneSpec):
+        return None
     one = design.cam(cam)
-    band = one.inspection_band_um
-    if band is not None:
-        lo, hi = band
-        return float(lo), float(hi), "radial"
-    keys = {t.key for t in design.tolerances}
-    for key, kind in (("n", "normal"), ("r", "radial")):
-        if key in keys:
-            from camtol.analysis.kinematics import kinematics
+    r_max = 0.0
+    if spec.grade is not None:
+        from camtol.analysis.kinematics import kinematics
 
-            theta = np.linspace(0.0, 2 * math.pi, 3601)
-            r_max = float(kinematics(one.design, theta, check=False).radius_mm.max())
-            dev = next(t for t in design.resolve_tolerances(r_max) if t.key == key)
-            return -dev.deviation * 1e3, dev.deviation * 1e3, kind  # type: ignore[return-value]
-    return None
+        theta = np.linspace(0.0, 2 * math.pi, 3601)
+        r_max = float(kinematics(one.design, theta, check=False).radius_mm.max())
+    return spec.resolve(r_max)
+
+
+def profile_tolerance(
+    design: CamDesign, cam: CamLabel = "A"
+) -> tuple[float, float, ToleranceKind] | None:
+    """Return the design's CMM zone as (lower, upper, ``"normal"``), or None.
+
+    Kept for callers of the earlier API; see :func:`design_zone`.
+
+    Parameters
+    ----------
+    design : CamDesign
+        The design.
+    cam : {"A", "B"}
+        Which cam.
+    """
+    zone = design_zone(design, cam)
+    return None if zone is None else (zone.lower_um, zone.upper_um, "normal")
 
 
 @dataclass(frozen=True)
@@ -196,16 +222,28 @@ class CmmInspection:
         Normal and radial deviations. [µm]
     outlier : ndarray of bool
         Points reported as outliers (not in the verdict).
-    tolerance_um : (float, float)
-        Profile tolerance [lower, upper]. [µm]
-    tolerance_kind : {"normal", "radial"}
-        The deviation the tolerance bounds: Δn or Δr.
+    zone : ProfileZone
+        The profile zone judged against (limits, width, Δn or Δr, where from).
+    floating : bool
+        Whether the zone floats (the datum leaves rigid modes to fit) or is located.
+    excess_um : float
+        Largest excursion beyond the zone at the zone's best placement (≤ 0: inside).
+        [µm]
     form_um : float
         Zone width max Δn − min Δn of the points kept. [µm]
     min_zone_um : float
         Minimum-zone width over the transforms the datum leaves free. [µm]
     failing_intervals_deg : list of (float, float)
-        Polar-angle intervals with points outside the tolerance (end < start: wraps). [deg]
+        Polar-angle intervals with points outside the acceptance zone (end < start:
+        wraps). [deg]
+    decision : {"simple", "guard-band"}
+        The decision rule (ISO 14253-1).
+    u_um : float
+        Expanded uncertainty U of the deviations judged: the CMM's and the located
+        registration's, combined (0 under ``simple`` without one given). [µm]
+    acceptance : ProfileZone
+        The zone the verdict uses: the zone itself (``simple``) or shrunk by U on both
+        sides (``guard-band``).
     """
 
     cam: str
@@ -219,11 +257,25 @@ class CmmInspection:
     dn_um: FloatArray
     dr_um: FloatArray
     outlier: NDArray[np.bool_]
-    tolerance_um: tuple[float, float]
-    tolerance_kind: str
+    zone: ProfileZone
+    floating: bool
+    excess_um: float
     form_um: float
     min_zone_um: float
     failing_intervals_deg: list[tuple[float, float]]
+    decision: str = "simple"
+    u_um: float = 0.0
+    acceptance: ProfileZone | None = None
+
+    @property
+    def tolerance_um(self) -> tuple[float, float]:
+        """The zone's limits [lower, upper]. [µm]"""
+        return self.zone.limits_um
+
+    @property
+    def tolerance_kind(self) -> str:
+        """``"normal"`` (Δn, ISO 1101) or ``"radial"`` (Δr band)."""
+        return self.zone.on
 
     @property
     def passed(self) -> bool:
@@ -316,6 +368,9 @@ def inspect_scan(
     tolerance_um: tuple[float, float] | None = None,
     tolerance_kind: ToleranceKind | None = None,
     profile: CamProfile | None = None,
+    zone: ProfileZone | None = None,
+    decision: str = "simple",
+    u_cmm_um: float | None = None,
 ) -> CmmInspection:
     """Register a scan to the nominal cam and compute its deviations and verdict.
 
@@ -330,12 +385,19 @@ def inspect_scan(
     datum : Datum, optional
         Registration (default: best fit over rotation and translation).
     tolerance_um : (float, float), optional
-        Profile tolerance [lower, upper] (default: the design's). [µm]
+        An explicit zone [lower, upper] (default: the design's zone). [µm]
     tolerance_kind : {"normal", "radial"}, optional
-        Whether the tolerance bounds Δn or Δr (default: the design's kind, or
-        ``"normal"`` for a tolerance given here).
+        Whether ``tolerance_um`` bounds Δn (default) or Δr (a radial band, not ISO 1101).
     profile : CamProfile, optional
         The cam's tabulated profile, when already built (:func:`cam_profile`).
+    zone : ProfileZone, optional
+        The zone (instead of ``tolerance_um``; default: the design's,
+        :func:`design_zone`).
+    decision : {"simple", "guard-band"}
+        ISO 14253-1 decision rule: ``guard-band`` shrinks the zone by U on both sides.
+    u_cmm_um : float, optional
+        The CMM's expanded uncertainty U (k = 2), combined with the located
+        registration's (a fitted bore centre); required by ``guard-band``. [µm]
 
     Returns
     -------
@@ -347,12 +409,29 @@ def inspect_scan(
         Points that do not go round the cam, or that lie implausibly far from the
         nominal after registration (a scan of another cam).
     DesignError
-        No profile tolerance in the design and none given.
+        No profile zone in the design and none given; ``guard-band`` without
+        ``u_cmm_um``, or a guard band that leaves no zone.
     GeometryError
         The scan's stylus ball is larger than a concave radius of the cam
         (:func:`check_stylus`).
     """
-    return _inspect_scan(design, scan, cam, datum, tolerance_um, tolerance_kind, profile, True)
+    if zone is None and tolerance_um is not None:
+        kind = tolerance_kind or "normal"
+        if kind not in ("normal", "radial"):
+            raise DesignError(f"tolerance kind {kind!r} is not allowed; use normal or radial")
+        zone = zone_from_limits(tolerance_um[0], tolerance_um[1], source="--tolerance-um", on=kind)
+    elif zone is not None and tolerance_kind is not None and tolerance_kind != zone.on:
+        zone = ProfileZone(zone.lower_um, zone.upper_um, tolerance_kind, zone.source)
+    if decision not in ("simple", "guard-band"):
+        raise DesignError(f"decision={decision!r} is not allowed; use simple or guard-band")
+    if decision == "guard-band" and u_cmm_um is None:
+        raise DesignError(
+            "--decision guard-band needs the measurement uncertainty: give --u-cmm-um U"
+            " (the CMM's expanded uncertainty, µm), or use --decision simple"
+        )
+    if u_cmm_um is not None and not (math.isfinite(u_cmm_um) and u_cmm_um >= 0):
+        raise DesignError(f"--u-cmm-um={u_cmm_um!r} is not allowed; give a number ≥ 0 µm")
+    return _inspect_scan(design, scan, cam, datum, zone, profile, True, decision, u_cmm_um or 0.0)
 
 
 def _inspect_scan(
@@ -360,10 +439,11 @@ def _inspect_scan(
     scan: Scan,
     cam: CamLabel,
     datum: Datum | None,
-    tolerance_um: tuple[float, float] | None,
-    tolerance_kind: ToleranceKind | None,
+    zone: ProfileZone | None,
     profile: CamProfile | None,
     hint_other_cam: bool,
+    decision: str = "simple",
+    u_cmm_um: float = 0.0,
 ) -> CmmInspection:
     """Do :func:`inspect_scan`, trying the other cam of a pair only with ``hint_other_cam``.
 
@@ -371,20 +451,27 @@ def _inspect_scan(
     not try back, or a scan of neither cam recurses between the two without end.
     """
     datum = Datum() if datum is None else datum
+    if datum.keyway_deg is not None and datum.point_mm is None:  # the scan's keyway feature
+        kp = scan.keyway_point()
+        if kp is None:
+            raise InputFileError(
+                f"{scan.source}: --keyway-deg needs points flagged keyway=1 in the scan"
+            )
+        import dataclasses
+
+        datum = dataclasses.replace(datum, point_mm=kp, point_angle_deg=datum.keyway_deg)
     prof = cam_profile(design, cam) if profile is None else profile
     check_stylus(prof, scan.stylus_radius_mm)  # compensated points assume the ball fits
-    design_tol = profile_tolerance(design, cam) if tolerance_um is None else None
-    tol = (design_tol[0], design_tol[1]) if design_tol is not None else tolerance_um
-    kind: str = tolerance_kind or (design_tol[2] if design_tol is not None else "normal")
-    if kind not in ("normal", "radial"):
-        raise DesignError(f"tolerance kind {kind!r} is not allowed; use normal or radial")
-    if tol is None:
+    if zone is None:
+        zone = design_zone(design, cam)
+    if zone is None:
         raise DesignError(
-            f"the design {design.name!r} states no profile tolerance (tolerances.r or"
-            " tolerances.n, or inspection.tolerance_a_um); give --tolerance-um LOWER,UPPER"
+            f"the design {design.name!r} states no profile zone for cam {prof.label}"
+            " ([inspection] profile_tolerance_um, ISO 1101); give --tolerance-um T (zone"
+            " width, ±T/2) or LOWER,UPPER"
         )
-    if not (math.isfinite(tol[0]) and math.isfinite(tol[1]) and tol[0] < tol[1]):
-        raise DesignError(f"tolerance {list(tol)} µm is not allowed; give lower < upper")
+    tol = zone.limits_um
+    kind: str = zone.on
     px, py, index = scan.profile_points()
     bx, by = scan.x_mm[scan.bore], scan.y_mm[scan.bore]
     centre = (0.0, 0.0)
@@ -402,7 +489,7 @@ def _inspect_scan(
     check_coverage(scan.source, px - centre[0], py - centre[1])
 
     def wrong() -> str:
-        hint = _other_cam_hint(design, scan, prof.label, datum, tol) if hint_other_cam else ""
+        hint = _other_cam_hint(design, scan, prof.label, datum, zone) if hint_other_cam else ""
         return (
             f"{scan.source}: the points do not match the nominal profile of cam {prof.label}"
             f" of {design.name!r}{hint}"
@@ -435,7 +522,27 @@ def _inspect_scan(
     dn_um, dr_um = dn * 1e3, dr * 1e3
     theta_deg = np.mod(np.degrees(np.arctan2(yc, xc)), 360.0)
     dev_um = dn_um if kind == "normal" else dr_um
-    fail = kept & ((dev_um < tol[0]) | (dev_um > tol[1]))
+    # The located registration's uncertainty (a fitted bore centre moves every Δn by up
+    # to |δd|) adds to the CMM's; fitted modes float with the zone and add nothing.
+    reg_u_um = 0.0
+    if reg.mode == "bore" and "translation" not in reg.fitted:
+        reg_u_um = 2.0 * 1e3 * math.hypot(reg.u_dx_mm, reg.u_dy_mm)
+    u_um = math.hypot(u_cmm_um, reg_u_um)
+    accept = zone.with_guard_band(u_um) if decision == "guard-band" else zone
+    floating = kind == "normal" and jac.shape[1] > 0
+    if floating:  # ISO 1101 floating zone: best placement of the free rigid modes
+        excess_mm, delta = zone_placement(
+            dn[kept], jac[kept], accept.lower_um * 1e-3, accept.upper_um * 1e-3
+        )
+        placed_um = dev_um + 1e3 * (jac @ delta)
+    else:
+        placed_um = dev_um
+        excess_mm = 1e-3 * float(
+            np.max(np.maximum(dev_um[kept] - accept.upper_um, accept.lower_um - dev_um[kept]))
+        )
+    fail = kept & ((placed_um < accept.lower_um - 1e-9) | (placed_um > accept.upper_um + 1e-9))
+    if excess_mm <= 0.0:
+        fail[:] = False
     return CmmInspection(
         cam=prof.label,
         source=scan.source,
@@ -448,23 +555,27 @@ def _inspect_scan(
         dn_um=dn_um,
         dr_um=dr_um,
         outlier=outlier,
-        tolerance_um=(float(tol[0]), float(tol[1])),
-        tolerance_kind=kind,
+        zone=zone,
+        floating=floating,
+        excess_um=1e3 * excess_mm,
         form_um=float(np.ptp(dn_um[kept])),
         min_zone_um=1e3 * minimum_zone(dn[kept], jac[kept]),
         failing_intervals_deg=_intervals(theta_deg, fail),
+        decision=decision,
+        u_um=u_um,
+        acceptance=accept,
     )
 
 
 def _other_cam_hint(
-    design: CamDesign, scan: Scan, label: str, datum: Datum, tol: tuple[float, float]
+    design: CamDesign, scan: Scan, label: str, datum: Datum, tol: ProfileZone
 ) -> str:
     """For a conjugate pair: ' (it matches cam X)' when the scan fits the other cam."""
     for other in design.cams():
         if other.letter == label:
             continue
         try:
-            _inspect_scan(design, scan, other.letter, datum, tol, None, None, False)  # type: ignore[arg-type]
+            _inspect_scan(design, scan, other.letter, datum, tol, None, False)  # type: ignore[arg-type]
         except (InputFileError, GeometryError):
             continue
         return f" (it matches cam {other.letter}: use --cam {other.letter})"

@@ -167,6 +167,16 @@ class ProfileTable:
         return j
 
     @property
+    def node_points(self) -> tuple[FloatArray, FloatArray]:
+        """P at the nodes t_0..t_{M−1}, evaluated once (the registration's coarse search). [mm]"""
+        cache = self.__dict__.get("_node_cache")
+        if cache is None:
+            x, y, *_ = self.evaluate(self.nodes_rad[:-1])
+            cache = (x, y)
+            object.__setattr__(self, "_node_cache", cache)
+        return cache
+
+    @property
     def _buckets(self) -> tuple[IntArray, float]:
         cache = self.__dict__.get("_bucket_cache")
         if cache is None:

@@ -22,7 +22,25 @@ the slower reference; both reach the same minimum). The rotation starts from a c
 search (1°, then 0.1°) of the median radial misfit, the centre of a best fit from the
 scan's area centroid (so the CMM frame's origin may be anywhere). Standard uncertainties follow from
 the Jacobian at the solution, cov = s² (JᵀJ)⁻¹ with s² the residual variance of the
-points kept.
+points kept: the **random** part, which assumes independent residuals.
+
+A profile error is not independent from point to point: on a non-circular cam the rigid
+fit absorbs part of it (a 10 µm·sin 4θ error turns the fitted rotation by several times
+its random u). The **form** part of the uncertainty is what the profile error can
+absorb: the covariance of the rigid modes with the low harmonics of the deviation. The
+residuals are resolved into harmonics k = 1..:data:`FORM_HARMONICS` of the profile
+parameter; each harmonic's variance σ_k² = (a_k² + b_k²)/2 is corrected for the part of
+it the fit itself removed (its leverage h_k on the rigid modes: σ_k²/(1 − h_k), as HC2
+corrects a sandwich estimator, [MW85]); then cov_form = G diag(σ²) Gᵀ with
+G = (JᵀJ)⁻¹ Jᵀ [cos kt, sin kt], the sandwich ([White80]) of a random-phase profile
+error. The combined standard uncertainty is √(u_random² + u_form²); its 95 % expanded
+uncertainty uses, per parameter, the Student factor of the Welch-Satterthwaite degrees of
+freedom (GUM G.4), each σ_k² counting 2. Tested: over 200 seeded scans of cw06 designs
+with random profile errors (harmonics 2-20, 2-10 µm rms), the 95 % interval covers the
+true placement in ≥ 92 % of them. A warning says when the form part dominates.
+
+References: [White80] H. White, Econometrica 48(4):817-838, 1980. [MW85] J. G. MacKinnon,
+H. White, J. Econometrics 29(3):305-325, 1985. [GUM] JCGM 100:2008, Annex G.
 
 Outliers are points far from their neighbours' trend (a running median of Δn along the
 profile): more than ``k`` robust standard deviations (1.4826 × MAD) and more than a floor.
@@ -66,6 +84,9 @@ Loss = Literal["linear", "soft_l1", "huber"]
 #: outliers and uncertainties always use every point).
 FIT_POINTS = 20_000
 
+#: Harmonics of the deviation the form part of the uncertainty is resolved into.
+FORM_HARMONICS = 30
+
 BEST_FIT_WARNING = (
     "best-fit registration moves the scan onto the nominal and so hides eccentricity (a cam"
     " machined off its bore centre passes); register on the bore (--datum bore or"
@@ -100,6 +121,9 @@ class Datum:
         Outlier threshold in robust standard deviations of the local residual.
     outlier_floor_mm : float
         Outliers must also depart from the local trend by more than this. [mm]
+    keyway_deg : float, optional
+        Nominal polar angle of the keyway whose points the scan flags (column
+        ``keyway``): their centroid becomes the datum point (a feature datum). [deg]
     """
 
     mode: DatumMode = "fit"
@@ -111,6 +135,7 @@ class Datum:
     f_scale_mm: float = 0.005
     outlier_sigma: float = 6.0
     outlier_floor_mm: float = 0.002
+    keyway_deg: float | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in ("fit", "fit-rotation", "bore", "centre"):
@@ -121,7 +146,17 @@ class Datum:
             raise DesignError("datum centre needs the cam centre: centre:X,Y in mm")
         if (self.point_mm is None) != (self.point_angle_deg is None):
             raise DesignError("a datum point needs its coordinates and its nominal polar angle")
-        stated = self.angle_deg is not None or self.point_mm is not None
+        stated = (
+            self.angle_deg is not None or self.point_mm is not None or self.keyway_deg is not None
+        )
+        if (
+            self.keyway_deg is not None
+            and (self.point_mm is not None or self.angle_deg is not None)
+            and not (self.point_mm is not None and self.point_angle_deg == self.keyway_deg)
+        ):
+            raise DesignError("give the angular datum once: a keyway, a stated angle or a point")
+        if self.keyway_deg is not None and not math.isfinite(self.keyway_deg):
+            raise DesignError(f"keyway angle {self.keyway_deg!r} is not allowed; give degrees")
         if self.mode.startswith("fit") and stated:
             raise DesignError(
                 f"datum {self.mode!r} fits the rotation; an angular datum (stated angle or"
@@ -171,7 +206,8 @@ class Registration:
     rotation_deg, dx_mm, dy_mm : float
         φ in (−180, 180] [deg] and d [mm].
     u_rotation_deg, u_dx_mm, u_dy_mm : float
-        Standard uncertainties (0 for a stated value). [deg, mm]
+        Random standard uncertainties (0 for a stated value): residuals taken as
+        independent. [deg, mm]
     fitted : tuple of str
         Parameters that were fitted (``rotation``, ``translation``).
     outliers : ndarray of int
@@ -181,6 +217,11 @@ class Registration:
     points : RegisteredPoints or None
         The points in the cam frame with their closest profile points at the solution
         (saves solving them again).
+    u_form_rotation_deg, u_form_dx_mm, u_form_dy_mm : float
+        Form part of the standard uncertainties: what the profile error can shift the
+        fitted parameters by (see the module notes; 0 for a stated value). [deg, mm]
+    coverage_factors : (float, float, float)
+        95 % coverage factors of φ, dx, dy (Welch-Satterthwaite Student factors, ≥ 2).
     """
 
     mode: str
@@ -194,6 +235,25 @@ class Registration:
     outliers: NDArray[np.intp]
     warnings: tuple[str, ...] = ()
     points: RegisteredPoints | None = field(default=None, repr=False, compare=False)
+    u_form_rotation_deg: float = 0.0
+    u_form_dx_mm: float = 0.0
+    u_form_dy_mm: float = 0.0
+    coverage_factors: tuple[float, float, float] = (2.0, 2.0, 2.0)
+
+    @property
+    def u_total(self) -> tuple[float, float, float]:
+        """Combined standard uncertainties √(u_random² + u_form²) of φ, dx, dy. [deg, mm]"""
+        return (
+            math.hypot(self.u_rotation_deg, self.u_form_rotation_deg),
+            math.hypot(self.u_dx_mm, self.u_form_dx_mm),
+            math.hypot(self.u_dy_mm, self.u_form_dy_mm),
+        )
+
+    @property
+    def expanded_95(self) -> tuple[float, float, float]:
+        """95 % expanded uncertainties k·u of φ, dx, dy (k: :attr:`coverage_factors`). [deg, mm]"""
+        (a, b, c), (ka, kb, kc) = self.u_total, self.coverage_factors
+        return ka * a, kb * b, kc * c
 
     def to_cam(self, x_mm: FloatArray, y_mm: FloatArray) -> tuple[FloatArray, FloatArray]:
         """CMM coordinates into the cam frame: x_cam = R(−φ)(x − d). [mm]
@@ -257,7 +317,7 @@ def _coarse_rotation(
     (float, float, float)
         φ [rad] and the centre (dx, dy). [mm]
     """
-    nodes_x, nodes_y, *_ = table.evaluate(table.nodes_rad[:-1])
+    nodes_x, nodes_y = table.node_points
     if free_centre:
         csx, csy = area_centroid(x, y)
         cnx, cny = area_centroid(nodes_x, nodes_y)
@@ -431,7 +491,7 @@ def register(
             for _ in range(100):
                 w = _weights(dn + j @ step, datum.loss, f_scale)
                 jw = j * w[:, None]
-                new = np.asarray(np.linalg.lstsq(jw.T @ j, -(jw.T @ dn), rcond=None)[0], float)
+                new = _solve_small(jw.T @ j, -(jw.T @ dn))
                 done = np.max(np.abs(new - step)) < 0.1 * tol
                 step = new
                 if done:
@@ -459,6 +519,8 @@ def register(
         t, dn, nx, ny = table.closest(xc, yc, t)
     # Uncertainties from the Jacobian of every kept point at the solution.
     u = dict.fromkeys(("rotation", "dx", "dy"), 0.0)
+    u_form = dict.fromkeys(("rotation", "dx", "dy"), 0.0)
+    k_cover = dict.fromkeys(("rotation", "dx", "dy"), 2.0)
     if names:
         j = jac_rows(phi, xc[keep], yc[keep], nx[keep], ny[keep])
         r = dn[keep]
@@ -468,11 +530,26 @@ def register(
             cov = s2 * np.linalg.inv(j.T @ j)
         except np.linalg.LinAlgError:
             cov = np.full((len(names), len(names)), np.inf)
+        sub = np.arange(0, keep.size, max(1, keep.size // FIT_POINTS))
+        var_form, dof_form = _form_variance(j[sub], (r - np.mean(r))[sub], t[keep][sub])
+        # (no 1/N: what the profile error shifts the fit by does not average out)
         for k, name in enumerate(names):
             u[name] = math.sqrt(max(float(cov[k, k]), 0.0))
+            u_form[name] = math.sqrt(max(float(var_form[k]), 0.0))
+            k_cover[name] = _coverage_factor(u[name], u_form[name], dof, float(dof_form[k]))
     if not fit_translation:
         u["dx"], u["dy"] = u_d
-    warnings = (BEST_FIT_WARNING,) if fit_translation else ()
+    warnings: tuple[str, ...] = (BEST_FIT_WARNING,) if fit_translation else ()
+    dominated = [
+        n for n in names if u_form[n] > 2.0 * u[n] and u_form[n] > 0.0 and math.isfinite(u[n])
+    ]
+    if dominated:
+        warnings += (
+            "the profile error, not probe noise, limits the registration: the form part of"
+            f" the uncertainty of {', '.join(dominated)} is over twice its random part; the"
+            " fit absorbs some of the profile error (the combined uncertainty says how much;"
+            " a bore and keyway datum does not depend on it)",
+        )
     return Registration(
         mode=datum.mode,
         rotation_deg=math.degrees(math.remainder(phi, 2 * math.pi)),
@@ -485,7 +562,74 @@ def register(
         outliers=outliers,
         warnings=warnings,
         points=RegisteredPoints(xc, yc, t, dn, nx, ny),
+        u_form_rotation_deg=math.degrees(u_form["rotation"]),
+        u_form_dx_mm=u_form["dx"],
+        u_form_dy_mm=u_form["dy"],
+        coverage_factors=(k_cover["rotation"], k_cover["dx"], k_cover["dy"]),
     )
+
+
+def _form_variance(
+    j: FloatArray, r: FloatArray, t_rad: FloatArray, harmonics: int = FORM_HARMONICS
+) -> tuple[FloatArray, FloatArray]:
+    """Return what a random-phase profile error can shift the fitted parameters by.
+
+    Parameters
+    ----------
+    j : ndarray, shape (N, p)
+        ∂Δn/∂(fitted parameters) of the kept points.
+    r : ndarray
+        Their residuals at the solution (mean removed). [mm]
+    t_rad : ndarray
+        Their profile parameters. [rad]
+    harmonics : int
+        Harmonics H resolved (fewer when the points are few: at most (N − p)/4).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The form variance of each parameter and its Welch-Satterthwaite degrees of
+        freedom (inf when the variance is 0).
+    """
+    n, p = j.shape
+    h = max(1, min(harmonics, (n - p) // 4))
+    k = np.arange(1, h + 1)
+    phase = np.outer(t_rad, k)
+    basis = np.concatenate([np.cos(phase), np.sin(phase)], axis=1)  # (N, 2H)
+    coef = _solve_small(basis.T @ basis, basis.T @ r)  # well conditioned: near-orthogonal
+    q, _ = np.linalg.qr(j)
+    # Leverage of each harmonic on the rigid modes: the fraction of it the fit removed.
+    lev = np.minimum(np.sum((q.T @ basis) ** 2, axis=0) / np.sum(basis**2, axis=0), 0.9)
+    adjusted = coef**2 / (1.0 - lev)
+    sigma2 = 0.5 * (adjusted[:h] + adjusted[h:])  # per harmonic, its two phases pooled
+    try:
+        g = np.linalg.solve(j.T @ j, j.T @ basis)  # (p, 2H)
+    except np.linalg.LinAlgError:
+        return np.full(p, np.inf), np.full(p, np.inf)
+    terms = (g[:, :h] ** 2 + g[:, h:] ** 2) * sigma2  # (p, H)
+    var = terms.sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dof = np.where(var > 0, var**2 / np.sum(terms**2 / 2.0, axis=1), np.inf)
+    return np.asarray(var, dtype=float), np.asarray(dof, dtype=float)
+
+
+def _coverage_factor(u_random: float, u_form: float, dof_random: int, dof_form: float) -> float:
+    """95 % Student factor at the Welch-Satterthwaite degrees of freedom (GUM G.4)."""
+    from scipy.special import stdtrit  # Student quantile (scipy.stats imports slowly)
+
+    if not (math.isfinite(u_random) and math.isfinite(u_form)) or u_form <= 0.0:
+        return 2.0
+    uc4 = (u_random**2 + u_form**2) ** 2
+    nu = uc4 / (u_random**4 / dof_random + u_form**4 / dof_form)
+    return 2.0 if not math.isfinite(nu) else max(2.0, float(stdtrit(max(nu, 1.0), 0.975)))
+
+
+def _solve_small(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Solve a small normal-equation system; least squares when it is singular."""
+    try:
+        return np.asarray(np.linalg.solve(a, b), dtype=float)
+    except np.linalg.LinAlgError:
+        return np.asarray(np.linalg.lstsq(a, b, rcond=None)[0], dtype=float)
 
 
 def _auto_scale(r: FloatArray, floor_mm: float) -> float:

@@ -4,7 +4,10 @@
 error: points on the exact profile with the error (the contact engine's
 :class:`~camtol.contact.AnalyticShape`), stylus-ball centres offset by the ball radius
 along the normal, Gaussian probe noise along the normal, outliers, and the part's
-placement on the machine (rotation and eccentricity), with the truth beside it.
+placement on the machine (rotation and eccentricity), with the truth beside it; on
+request also points on the bore (a circle about the cam centre O2) and a keyway point at
+a stated nominal polar angle, flagged ``bore``/``keyway`` in the file, for the feature
+datum (``camtol inspect --datum bore --keyway-deg``).
 
 The measuring fixture's reading of the same parts is the pair's twin,
 :func:`camtol.pair.twin.fixture_delta_f`.
@@ -112,6 +115,12 @@ class ScanTruth:
         Placement: x_CMM = R(rotation) x_cam + (dx, dy). [deg, mm]
     outlier_indices : list of int
         Rows (0-based data rows) that are outliers.
+    bore_points : int
+        Points on the bore (after the profile points in the file).
+    bore_radius_mm : float
+        The bore's radius. [mm]
+    keyway_deg : float or None
+        Nominal polar angle of the keyway point (None: none written). [deg]
     profile_error : dict
         ``kind`` (radial or normal), ``mean_um``, ``cos_um``, ``sin_um`` (harmonics 1, 2, ...
         of the profile parameter θ in rad).
@@ -128,6 +137,9 @@ class ScanTruth:
     dy_mm: float
     outlier_indices: list[int]
     profile_error: dict[str, Any] = field(default_factory=dict)
+    bore_points: int = 0
+    bore_radius_mm: float = 0.0
+    keyway_deg: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         """Return the truth as a JSON-ready dict (keys as the attributes)."""
@@ -145,6 +157,9 @@ class ScanTruth:
             },
             "outlier_indices": self.outlier_indices,
             "profile_error": self.profile_error,
+            "bore_points": self.bore_points,
+            "bore_radius_mm": self.bore_radius_mm,
+            "keyway_deg": self.keyway_deg,
         }
 
 
@@ -164,6 +179,10 @@ class SimulatedScan:
         a closed form). [µm]
     truth : ScanTruth
         The parameters.
+    bore_x_mm, bore_y_mm : ndarray
+        Bore points in the CMM frame (empty without a bore). [mm]
+    keyway_mm : (float, float) or None
+        The keyway point in the CMM frame. [mm]
     """
 
     x_mm: FloatArray
@@ -171,6 +190,9 @@ class SimulatedScan:
     param_rad: FloatArray
     true_dn_um: FloatArray
     truth: ScanTruth
+    bore_x_mm: FloatArray = field(default_factory=lambda: np.zeros(0))
+    bore_y_mm: FloatArray = field(default_factory=lambda: np.zeros(0))
+    keyway_mm: tuple[float, float] | None = None
 
 
 #: Largest probe noise (standard deviation) a simulated scan takes: 1 mm. [µm]
@@ -223,6 +245,9 @@ def simulate_scan(
     outlier_um: float = 100.0,
     profile_error: FourierError | None = None,
     error_kind: ErrorKind = "radial",
+    bore_points: int = 0,
+    bore_radius_mm: float | None = None,
+    keyway_deg: float | None = None,
 ) -> SimulatedScan:
     """Simulate a CMM scan of a cam with a known profile error (see the module notes).
 
@@ -253,6 +278,14 @@ def simulate_scan(
         The cam's profile error Δ(θ) (mm), along O2A (``radial``) or the normal.
     error_kind : {"radial", "normal"}
         How ``profile_error`` is applied.
+    bore_points : int
+        Points on the bore (0: none; at least 3 for a bore datum), equally spaced, with
+        the probe noise along the radius.
+    bore_radius_mm : float, optional
+        The bore's radius (default: 40 % of the cam's smallest radius). [mm]
+    keyway_deg : float, optional
+        Write a keyway point at this nominal polar angle, 20 % of the smallest radius
+        beyond the bore (needs a bore). [deg]
 
     Returns
     -------
@@ -292,6 +325,15 @@ def simulate_scan(
         )
     if error_kind not in ("radial", "normal"):
         raise DesignError(f"error kind {error_kind!r} is not allowed; use radial or normal")
+    if not isinstance(bore_points, int) or not (bore_points == 0 or 3 <= bore_points <= 100_000):
+        raise DesignError(
+            f"bore_points={bore_points!r} is not allowed; give 0 or an integer from 3 to 100000"
+        )
+    if keyway_deg is not None and (bore_points == 0 or not abs(keyway_deg) <= 360.0):
+        raise DesignError(
+            f"keyway_deg={keyway_deg!r} is not allowed; give an angle from -360 to 360 with"
+            " bore points (the keyway is cut in the bore)"
+        )
     prof = cam_profile(design, cam)
     check_stylus(prof, stylus_radius_mm)  # a ball that bridges a hollow has no such scan
     shape = AnalyticShape(
@@ -320,6 +362,29 @@ def simulate_scan(
     dy = eccentricity_um * 1e-3 * math.sin(math.radians(eccentricity_deg))
     c, s = math.cos(phi), math.sin(phi)
     xm, ym = c * x - s * y + dx, s * x + c * y + dy
+    bx = by = np.zeros(0)
+    keyway_mm = None
+    radius = 0.0
+    if bore_points:
+        r_min = float(np.min(np.hypot(px.v, py.v)))
+        radius = 0.4 * r_min if bore_radius_mm is None else float(bore_radius_mm)
+        if not (math.isfinite(radius) and 0 < radius < 0.9 * r_min):
+            raise DesignError(
+                f"bore_radius_mm={bore_radius_mm!r} is not allowed; give 0 < r <"
+                f" {0.9 * r_min:.4g} mm (inside the cam)"
+            )
+        a = np.linspace(0.0, 2 * math.pi, bore_points, endpoint=False)
+        # a bore is probed from inside: a ball centre lies its radius inside the surface
+        rb = radius - stylus_radius_mm + rng.normal(0.0, noise_um * 1e-3, bore_points)
+        bcx, bcy = rb * np.cos(a), rb * np.sin(a)
+        bx, by = c * bcx - s * bcy + dx, s * bcx + c * bcy + dy
+        if keyway_deg is not None:
+            rk = radius + 0.2 * r_min
+            kx, ky = (
+                rk * math.cos(math.radians(keyway_deg)),
+                rk * math.sin(math.radians(keyway_deg)),
+            )
+            keyway_mm = (c * kx - s * ky + dx, s * kx + c * ky + dy)
     if profile_error is None:
         true_dn = np.zeros(points)
     elif error_kind == "normal":
@@ -338,8 +403,11 @@ def simulate_scan(
         dy_mm=dy,
         outlier_indices=[int(i) for i in bad],
         profile_error=_error_json(profile_error, error_kind),
+        bore_points=bore_points,
+        bore_radius_mm=radius,
+        keyway_deg=keyway_deg,
     )
-    return SimulatedScan(xm, ym, t, true_dn, truth)
+    return SimulatedScan(xm, ym, t, true_dn, truth, bx, by, keyway_mm)
 
 
 def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
@@ -362,11 +430,26 @@ def scan_csv_text(scan: SimulatedScan, *, command: str = "") -> str:
         head.append(
             f"# stylus-ball centres: inspect with --stylus-radius-mm {tr.stylus_radius_mm:g}"
         )
-    head.append("x_mm,y_mm")
-    body = "\n".join(
-        f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
-    )
-    return "\n".join(head) + "\n" + body + "\n"
+        head.append(f"# stylus_radius_mm = {tr.stylus_radius_mm:g}")
+    if scan.bore_x_mm.size == 0:
+        head.append("x_mm,y_mm")
+        body = "\n".join(
+            f"{a:.9f},{b:.9f}" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
+        )
+        return "\n".join(head) + "\n" + body + "\n"
+    # Feature points (surface points, not stylus centres) after the profile, flagged.
+    head.append("# bore=1: bore points (as the profile's); keyway=1: the keyway point (surface)")
+    head.append("x_mm,y_mm,bore,keyway")
+    rows = [
+        f"{a:.9f},{b:.9f},0,0" for a, b in zip(scan.x_mm.tolist(), scan.y_mm.tolist(), strict=True)
+    ]
+    rows += [
+        f"{a:.9f},{b:.9f},1,0"
+        for a, b in zip(scan.bore_x_mm.tolist(), scan.bore_y_mm.tolist(), strict=True)
+    ]
+    if scan.keyway_mm is not None:
+        rows.append(f"{scan.keyway_mm[0]:.9f},{scan.keyway_mm[1]:.9f},0,1")
+    return "\n".join(head) + "\n" + "\n".join(rows) + "\n"
 
 
 def error_from_truth(

@@ -31,6 +31,7 @@ from camtol.design.cam_design import CamDesign
 from camtol.exceptions import DesignError
 from camtol.inspection.error_functions import ErrorFunction
 from camtol.inspection.units import MAX_ERROR_UM
+from camtol.inspection.zone import ZoneSpec, ZoneTable
 
 __all__ = ["FixtureErrors", "FixtureSpec", "fixture_spec"]
 
@@ -82,6 +83,7 @@ class FixtureSpec:
     master_b: ErrorFunction
     df_mea: ErrorFunction | None = None
     table: tuple[tuple[str, Any], ...] = field(default=(), compare=False, repr=False)
+    profile_zones: ZoneTable | None = None
 
     def __post_init__(self) -> None:
         for cam, (lo, hi) in (("a", self.tolerance_a_um), ("b", self.tolerance_b_um)):
@@ -110,6 +112,18 @@ class FixtureSpec:
             ``tolerance_a_um`` or ``tolerance_b_um``.
         """
         return self.tolerance_a_um if cam == "A" else self.tolerance_b_um
+
+    def profile_zone(self, cam: str) -> ZoneSpec | None:
+        """Return the CMM profile zone (ISO 1101) the table states for a cam, or None.
+
+        The fixture's radial bands (``tolerance_a_um``) are not a CMM zone (issue 31).
+
+        Parameters
+        ----------
+        cam : {"A", "B"}
+            The cam's letter.
+        """
+        return None if self.profile_zones is None else self.profile_zones.profile_zone(cam)
 
     def to_mapping(self) -> dict[str, Any]:
         """Return the ``[inspection]`` table this spec was built from (empty if none).
@@ -143,6 +157,8 @@ def fixture_spec(design: CamDesign) -> FixtureSpec | None:
     spec = design.inspection
     if spec is None or isinstance(spec, FixtureSpec):
         return spec
+    if isinstance(spec, ZoneTable):  # a CMM zone only: no fixture inputs
+        return None
     raise DesignError(
         f"design {design.name!r}: its [inspection] table is a {type(spec).__name__}, not the"
         " measuring fixture's inputs"

@@ -204,6 +204,7 @@ def cmm_record(
         tolerance_um=insp.tolerance_um,
         traceability=traceability,
         max_abs_ds_um=run.max_abs_ds_um,
+        max_abs_ds_deg=run.max_abs_ds_deg,
         extremes_um=(float(np.max(dr_kept)), float(np.min(dr_kept))),
         judged_on="dn" if insp.tolerance_kind == "normal" else "dr",
         decision_rule="simple",

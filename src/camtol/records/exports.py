@@ -3,7 +3,7 @@ r"""Records out of the store: one row per inspection, for a spreadsheet or Minit
 :func:`export_rows` gives, per record, its traceability (part number, serial, lot,
 inspector, instrument, UTC time), the design's name and hash, the method, what the verdict
 was judged on, the verdict and the summary figures, with the unit in every column name
-(``max_dev_um``; the motion figure in ``max_abs_ds_um`` for a lift, ``max_abs_ds_urad``
+(``max_dev_um``; the motion figure in ``max_abs_ds_um`` for a lift, ``max_abs_ds_deg``
 for a swing). :func:`export_csv` writes them as CSV (one header row, ``\\n`` line ends,
 floats to 10 significant digits, an empty field for a value that does not apply),
 :func:`export_json` as the ``records export --format json`` document.
@@ -42,7 +42,7 @@ COLUMNS = (
     "tolerance_lower_um",
     "tolerance_upper_um",
     "max_abs_ds_um",
-    "max_abs_ds_urad",
+    "max_abs_ds_deg",
     "n_points",
     "raw_sha256",
     "camtol_version",
@@ -53,7 +53,6 @@ VOID_COLUMNS = ("voided", "voided_at_utc", "voided_by", "void_reason")
 
 
 def _row(rec: InspectionRecord, with_void: bool) -> dict[str, Any]:
-    ds = rec.max_abs_ds_um
     row: dict[str, Any] = {
         "id": rec.id,
         "part_number": rec.part_number,
@@ -74,8 +73,8 @@ def _row(rec: InspectionRecord, with_void: bool) -> dict[str, Any]:
         "form_um": rec.form_um,
         "tolerance_lower_um": rec.tolerance_um[0],
         "tolerance_upper_um": rec.tolerance_um[1],
-        "max_abs_ds_um": ds if rec.motion_unit == "um" else None,
-        "max_abs_ds_urad": ds if rec.motion_unit == "urad" else None,
+        "max_abs_ds_um": rec.max_abs_ds_um,
+        "max_abs_ds_deg": rec.max_abs_ds_deg,
         "n_points": rec.n_points,
         "raw_sha256": rec.raw_sha256,
         "camtol_version": rec.camtol_version,

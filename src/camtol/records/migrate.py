@@ -24,7 +24,7 @@ from camtol.records.record import SCHEMA_VERSION
 __all__ = ["StoreState", "open_schema"]
 
 #: The Alembic revision of each schema version.
-REVISIONS = {1: "0001", 2: "0002"}
+REVISIONS = {1: "0001", 2: "0002", 3: "0003"}
 
 #: Tables every camtol store holds (those of version 1).
 V1_TABLES = frozenset({"schema_version", "designs", "inspections", "curves"})

@@ -20,6 +20,7 @@ from camtol.records.raw import RawInput, sha256_of
 from camtol.records.record import InspectionRecord
 from camtol.records.schema import (
     V2_COLUMNS,
+    V3_COLUMNS,
     curves,
     designs,
     inspection_inputs,
@@ -83,7 +84,7 @@ def _columns(version: int, details: bool) -> list[Any]:
     for col in inspections.c:
         if col.name in _DETAILS and not details:
             continue
-        if version < 2 and col.name in V2_COLUMNS:
+        if (version < 2 and col.name in V2_COLUMNS) or (version < 3 and col.name in V3_COLUMNS):
             out.append(null().label(col.name))
         else:
             out.append(col)
@@ -304,6 +305,9 @@ _NO_CURVE.flags.writeable = False
 def _record(row: dict[str, Any], with_curve: bool) -> InspectionRecord:
     """Build a record from a row (a dict of the columns read)."""
     n_points, data, ds = row["n_points"], row.get("data"), row["max_abs_ds_um"]
+    ds_deg, unit = row.get("max_abs_ds_deg"), row["motion_unit"]
+    if unit == "urad":  # a version-2 store read as it is: a swing's µrad figure in degrees
+        ds_deg, ds, unit = (None if ds is None else float(np.degrees(ds * 1e-6))), None, "deg"
     voided_at = row["voided_at"]
     return InspectionRecord(
         id=int(row["id"]),
@@ -322,6 +326,7 @@ def _record(row: dict[str, Any], with_curve: bool) -> InspectionRecord:
         min_dev_um=float(row["min_dev_um"]),
         form_um=float(row["form_um"]),
         max_abs_ds_um=None if ds is None else float(ds),
+        max_abs_ds_deg=None if ds_deg is None else float(ds_deg),
         tolerance_um=(float(row["tolerance_lower_um"]), float(row["tolerance_upper_um"])),
         camtol_version=row["camtol_version"],
         n_points=0 if n_points is None else int(n_points),
@@ -332,7 +337,7 @@ def _record(row: dict[str, Any], with_curve: bool) -> InspectionRecord:
         ),
         judged_on=row["judged_on"],
         decision_rule=row["decision_rule"],
-        motion_unit=row["motion_unit"],
+        motion_unit=unit,
         raw_sha256=row["raw_sha256"],
         options=_json(row.get("options")),
         results=_json(row.get("results")),

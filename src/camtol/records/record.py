@@ -43,7 +43,7 @@ __all__ = [
 
 
 #: Version of the store's tables this camtol writes; a store of a newer one is refused.
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
 Float32Array = npt.NDArray[np.float32]
 Method = Literal["conjugate-fixture", "cmm"]
@@ -52,7 +52,7 @@ CAMS: tuple[str, ...] = ("A", "B", "")
 VERDICTS: tuple[str, ...] = ("pass", "fail")
 JUDGED_ON: tuple[str, ...] = ("dn", "dr")
 DECISION_RULES: tuple[str, ...] = ("simple", "guard-band")
-MOTION_UNITS: tuple[str, ...] = ("um", "urad")
+MOTION_UNITS: tuple[str, ...] = ("um", "deg")
 _CURVE = "dr_um"
 
 
@@ -100,8 +100,8 @@ class InspectionRecord:
     max_dev_um, min_dev_um, form_um : float
         Max and min of Δr(θ) and their difference. [µm]
     max_abs_ds_um : float or None
-        Largest |ΔS| of the follower motion measured on the part, when the method gives it
-        (in µm, or µrad for an oscillating follower). [µm]
+        Largest |ΔS| of a translating follower's motion measured on the part, when the
+        method gives it (None for an oscillating follower: see ``max_abs_ds_deg``). [µm]
     tolerance_um : tuple of float
         Radial tolerance (lower, upper) the verdict was taken against. [µm]
     camtol_version : str
@@ -115,8 +115,9 @@ class InspectionRecord:
         a record made before schema version 2).
     decision_rule : {"simple", "guard-band"} or None
         Conformance rule of the verdict (ISO 14253-1; None: not recorded).
-    motion_unit : {"um", "urad"} or None
-        Unit of ``max_abs_ds_um``: µm for a lift, µrad for a swing (None: not known).
+    motion_unit : {"um", "deg"} or None
+        Unit of the follower error: ``um`` (``max_abs_ds_um``, a lift) or ``deg``
+        (``max_abs_ds_deg``, a swing); None: not known.
     raw_sha256 : str or None
         ``sha256:<hex>`` of the inspection's primary raw data (the scan, the indicator
         record or the measured Δf); None without raw data.
@@ -130,6 +131,9 @@ class InspectionRecord:
         When the record was voided (UTC), None while it stands.
     voided_by, void_reason : str
         Who voided it and why ("" while it stands).
+    max_abs_ds_deg : float or None
+        Largest |ΔS| of an oscillating follower's motion measured on the part (schema
+        version 3; a version-2 µrad figure is converted by the migration). [deg]
     """
 
     id: int | None
@@ -162,6 +166,7 @@ class InspectionRecord:
     voided_at: datetime | None = None
     voided_by: str = ""
     void_reason: str = ""
+    max_abs_ds_deg: float | None = None
 
     @property
     def voided(self) -> bool:
@@ -192,6 +197,7 @@ class InspectionRecord:
             "min_dev_um": self.min_dev_um,
             "form_um": self.form_um,
             "max_abs_ds_um": self.max_abs_ds_um,
+            "max_abs_ds_deg": self.max_abs_ds_deg,
             "tolerance_um": list(self.tolerance_um),
             "camtol_version": self.camtol_version,
             "n_points": self.n_points,
@@ -267,6 +273,7 @@ def make_record(
     traceability: Traceability,
     max_abs_ds_um: float | None = None,
     extremes_um: tuple[float, float] | None = None,
+    max_abs_ds_deg: float | None = None,
     judged_on: str | None = None,
     decision_rule: str | None = None,
     motion_unit: str | None = None,
@@ -297,15 +304,17 @@ def make_record(
     traceability : Traceability
         Part number, serial, lot, inspector, instrument, date-time.
     max_abs_ds_um : float, optional
-        Largest |ΔS| of the measured follower motion, when known. [µm, or µrad]
+        Largest |ΔS| of a translating follower's measured motion, when known. [µm]
     extremes_um : (float, float), optional
         Largest and smallest measured Δr (default: the curve's). [µm]
+    max_abs_ds_deg : float, optional
+        Largest |ΔS| of an oscillating follower's measured motion, when known. [deg]
     judged_on : {"dn", "dr"}, optional
         The deviation the tolerance bounds.
     decision_rule : {"simple", "guard-band"}, optional
         Conformance rule of the verdict.
-    motion_unit : {"um", "urad"}, optional
-        Unit of ``max_abs_ds_um``.
+    motion_unit : {"um", "deg"}, optional
+        ``um`` with ``max_abs_ds_um``, ``deg`` with ``max_abs_ds_deg``.
     raw_sha256 : str, optional
         ``sha256:<hex>`` of the primary raw data.
     options : mapping, optional
@@ -342,8 +351,17 @@ def make_record(
     lo, hi = float(tolerance_um[0]), float(tolerance_um[1])
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise RecordError(f"tolerance_um={tolerance_um!r}: allowed [lower, upper], lower < upper")
-    if max_abs_ds_um is not None and not math.isfinite(max_abs_ds_um):
-        raise RecordError(f"max_abs_ds_um={max_abs_ds_um!r}: allowed a finite number or None")
+    for name, ds in (("max_abs_ds_um", max_abs_ds_um), ("max_abs_ds_deg", max_abs_ds_deg)):
+        if ds is not None and not math.isfinite(ds):
+            raise RecordError(f"{name}={ds!r}: allowed a finite number or None")
+    if max_abs_ds_um is not None and max_abs_ds_deg is not None:
+        raise RecordError("max_abs_ds_um and max_abs_ds_deg: a follower is a lift or a swing")
+    for name, ds, unit in (
+        ("max_abs_ds_um", max_abs_ds_um, "um"),
+        ("max_abs_ds_deg", max_abs_ds_deg, "deg"),
+    ):
+        if ds is not None and motion_unit is not None and motion_unit != unit:
+            raise RecordError(f"{name} needs motion_unit={unit!r}, not {motion_unit!r}")
     for name, value, allowed in (
         ("judged_on", judged_on, JUDGED_ON),
         ("decision_rule", decision_rule, DECISION_RULES),
@@ -376,6 +394,7 @@ def make_record(
         min_dev_um=lo_dev,
         form_um=hi_dev - lo_dev,
         max_abs_ds_um=None if max_abs_ds_um is None else float(max_abs_ds_um),
+        max_abs_ds_deg=None if max_abs_ds_deg is None else float(max_abs_ds_deg),
         tolerance_um=(lo, hi),
         camtol_version=__version__,
         n_points=int(curve.size),

@@ -42,6 +42,7 @@ COMPARED = (
     "min_dev_um",
     "form_um",
     "max_abs_ds_um",
+    "max_abs_ds_deg",
     "motion_unit",
     "n_points",
 )
@@ -220,7 +221,19 @@ def rerun_record(
 
             if "scan" not in files:
                 raise RecordError(f"{made}: its raw scan is not in the store; it cannot be re-run")
-            run = run_cmm(design, capture.cmm_inputs(rec.options, files["scan"]))
+            cmm_in = capture.cmm_inputs(rec.options, files["scan"])
+            if cmm_in.tolerance_um is None:
+                # Judged against the zone the record was judged against: a record made
+                # before issue 31 took it from tolerances.r (±IT), which the design's
+                # [inspection] zone now replaces (or the stored design has none).
+                import dataclasses
+
+                cmm_in = dataclasses.replace(
+                    cmm_in,
+                    tolerance_um=rec.tolerance_um,
+                    tolerance_kind="radial" if rec.judged_on == "dr" else "normal",
+                )
+            run = run_cmm(design, cmm_in)
             again = capture.cmm_record(
                 design,
                 run,

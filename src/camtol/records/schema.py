@@ -1,6 +1,6 @@
 """SQLAlchemy Core tables of the inspection store and its engines (imported lazily).
 
-Tables (documented in docs/records.md), as of schema version 2 (the Alembic revisions in
+Tables (documented in docs/records.md), as of schema version 3 (the Alembic revisions in
 :mod:`camtol.records.migrations` build them from nothing or from an older store):
 ``schema_version`` (one row: the version), ``designs`` (one row per design hash, with its
 TOML text), ``inspections`` (one row per inspected cam), ``curves`` (one float32 blob per
@@ -92,6 +92,7 @@ inspections = Table(
     Column("min_dev_um", Double, nullable=False),
     Column("form_um", Double, nullable=False),
     Column("max_abs_ds_um", Double, nullable=True),
+    Column("max_abs_ds_deg", Double, nullable=True),
     Column("tolerance_lower_um", Double, nullable=False),
     Column("tolerance_upper_um", Double, nullable=False),
     Column("camtol_version", String(64), nullable=False),
@@ -134,6 +135,9 @@ V2_COLUMNS = (
     "voided_by",
     "void_reason",
 )
+
+#: Columns of ``inspections`` added by schema version 3 (read as NULL from an older store).
+V3_COLUMNS = ("max_abs_ds_deg",)
 
 curves = Table(
     "curves",

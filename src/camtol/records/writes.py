@@ -191,6 +191,7 @@ def _record_row(rec: InspectionRecord, allow_duplicate: bool) -> dict[str, Any]:
         "min_dev_um": rec.min_dev_um,
         "form_um": rec.form_um,
         "max_abs_ds_um": rec.max_abs_ds_um,
+        "max_abs_ds_deg": rec.max_abs_ds_deg,
         "tolerance_lower_um": rec.tolerance_um[0],
         "tolerance_upper_um": rec.tolerance_um[1],
         "camtol_version": rec.camtol_version,

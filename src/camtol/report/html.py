@@ -24,6 +24,7 @@ from camtol.report.display import accuracy_words, analysis_notes, display_analys
 from camtol.report.qa import (
     PRINT_CSS,
     TRACEABILITY_FIELDS,
+    CmmPart,
     InspectionReport,
     OverallVerdict,
     _where,
@@ -110,10 +111,14 @@ def figure_svg(fig: Figure, *, prefix: str) -> str:
     -------
     str
         The ``<svg ...>...</svg>`` markup (no XML declaration or DOCTYPE); text is drawn as
-        paths, so no font needs to be installed where the page is opened.
+        paths, so no font needs to be installed where the page is opened. Long curves
+        keep the points a screen can show (:mod:`camtol.report.thinning`).
     """
     import matplotlib
 
+    from camtol.report.thinning import thin_lines
+
+    thin_lines(fig)
     buf = io.StringIO()
     with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": prefix}):
         fig.savefig(buf, format="svg", metadata={"Date": None})
@@ -239,6 +244,7 @@ def report_html(
     traceability: dict[str, str] | None = None,
     radius_table: RadiusTable | None = None,
     sections: Sequence[str] = (),
+    cmm: CmmPart | None = None,
 ) -> str:
     """Build the HTML report of a design as a string (see :func:`write_report`).
 
@@ -260,6 +266,10 @@ def report_html(
     sections : sequence of str
         Extra HTML sections inserted before the figures (e.g. the Monte Carlo section of
         :func:`camtol.report.tolerancing.montecarlo_section`).
+    cmm : CmmPart, optional
+        A single cam's CMM inspection (``camtol report --cmm``): its verdict is the
+        banner's (:func:`camtol.report.qa.overall_verdict`); its section is one of
+        ``sections``.
 
     Returns
     -------
@@ -273,7 +283,7 @@ def report_html(
     d = a.design
     if fixture is _FROM_STUDY:
         fixture = _inspection(study)
-    verdict = overall_verdict(a, fixture)
+    verdict = overall_verdict(a, fixture, cmm=cmm)
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     parts: list[str] = [
         "<!DOCTYPE html>",
@@ -422,6 +432,7 @@ def write_report(
     traceability: dict[str, str] | None = None,
     radius_table: RadiusTable | None = None,
     sections: Sequence[str] = (),
+    cmm: CmmPart | None = None,
 ) -> Analysis:
     """Write a self-contained HTML report (inline CSS and SVG, no scripts, works offline).
 
@@ -438,6 +449,8 @@ def write_report(
     radius_table : RadiusTable, optional
         As for :func:`report_html`.
     sections : sequence of str
+        As for :func:`report_html`.
+    cmm : CmmPart, optional
         As for :func:`report_html`.
 
     Returns
@@ -481,6 +494,7 @@ def write_report(
             traceability=traceability,
             radius_table=radius_table,
             sections=sections,
+            cmm=cmm,
         ),
     )
     return study.analysis

@@ -122,7 +122,9 @@ def inspection_figure(
     if functional is not None:
         ax = axs[2]
         deg = np.degrees(functional.theta_rad)
-        scale, unit = (1e3, "µm") if functional.unit == "mm" else (3600 * 180 / math.pi, "arcsec")
+        # One unit per quantity (issue 31): µm for a lift, degrees for a swing, as the
+        # terminal, JSON, CSV and the store show it.
+        scale, unit = (1e3, "µm") if functional.unit == "mm" else (180 / math.pi, "deg")
         ax.plot(deg, functional.ds_measured * scale, "C0", lw=1.0, label="ΔS exact (contact)")
         ax.plot(deg, functional.ds_linear * scale, "C1--", lw=0.8, label="ΔS linear, (∂S/∂n)Δn")
         title = f"Functional error (Fourier ≤ {functional.harmonics} harmonics)"

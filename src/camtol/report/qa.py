@@ -8,6 +8,8 @@
 * :func:`radius_table_html`: the cam drawing's table of
   :func:`camtol.analysis.radius_table.radius_table`, formatted.
 * :data:`TRACEABILITY_FIELDS` and :data:`PRINT_CSS`.
+* :class:`CmmPart`: a single cam's CMM inspection in the report (``camtol report
+  --cmm``, issue 31): its verdict is the headline's.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "PRINT_CSS",
     "TRACEABILITY_FIELDS",
+    "CmmPart",
     "InspectionReport",
     "OverallVerdict",
     "overall_verdict",
@@ -91,6 +94,25 @@ class InspectionReport:
 
 
 @dataclass(frozen=True)
+class CmmPart:
+    """A single cam's CMM inspection, finished, for the report (results passed in).
+
+    Attributes
+    ----------
+    data : dict
+        The inspection as :func:`camtol.report.inspection_report.inspection_json` gives
+        it (with ``traceability``).
+    """
+
+    data: dict[str, Any]
+
+    @property
+    def passed(self) -> bool:
+        """Whether the cam passed (profile zone and, with a spec, the follower error)."""
+        return bool(self.data["verdict"] == "pass")
+
+
+@dataclass(frozen=True)
 class OverallVerdict:
     """The report's headline.
 
@@ -129,7 +151,9 @@ def _where(v: CamVerdict, shown: int = 4) -> str:
     return text
 
 
-def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVerdict:
+def overall_verdict(
+    a: Analysis, fixture: InspectionReport | None, *, cmm: CmmPart | None = None
+) -> OverallVerdict:
     """Decide the report's headline from the analysis and the inspection (if any).
 
     Parameters
@@ -138,6 +162,8 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
         The design's analysis.
     fixture : InspectionReport or None
         The fixture inspection of a measured conjugate pair.
+    cmm : CmmPart, optional
+        A single cam's CMM inspection (``camtol report --cmm``).
 
     Returns
     -------
@@ -147,6 +173,33 @@ def overall_verdict(a: Analysis, fixture: InspectionReport | None) -> OverallVer
         limit, else PASS.
     """
     name = a.design.name
+    if cmm is not None:
+        from camtol.report.inspection_report import failing_stretches, stretch_gap_deg
+
+        z = cmm.data["zone"]
+        dec = cmm.data["decision"]
+        zone = (
+            f"zone [{z['lower_um']:+g}, {z['upper_um']:+g}] µm (t = {z['width_um']:g} µm,"
+            f" {z['placement']})"
+        )
+        if cmm.data["profile_verdict"] == "pass":
+            reasons = [f"cam {cmm.data['cam']} passes its profile {zone}"]
+        else:
+            spans = failing_stretches(
+                [(float(a_), float(b_)) for a_, b_ in cmm.data["failing_intervals_deg"]],
+                stretch_gap_deg(int(cmm.data["points"])),
+            )
+            where = ", ".join(f"{s:.1f}-{e:.1f}°" for s, e in spans[:4])
+            more = f" and {len(spans) - 4} more stretches" if len(spans) > 4 else ""
+            reasons = [f"cam {cmm.data['cam']} FAILS its profile {zone} at {where}{more}"]
+        motion = cmm.data.get("motion") or {}
+        if motion.get("verdict") is not None:
+            reasons.append(f"follower error {motion['verdict'].upper()} against its spec")
+        reasons.append(f"decision rule: {dec['statement'].split(':')[0]}")
+        status = "PASS" if cmm.passed else "FAIL"
+        return OverallVerdict(
+            status, True, f"{status}: {name}: " + "; ".join(reasons), tuple(reasons)
+        )
     if fixture is not None and fixture.inspection.verdicts:
         from camtol.pair.decision import decision_rule_text
 
