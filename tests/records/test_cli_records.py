@@ -25,7 +25,7 @@ def _inspect(url: str, serial: str, df: str, lot: str = "L1", *extra: str) -> in
     return main(
         [
             "conjugate", "-e", EX, "--df-mea", df, "--step", "1", "-q", "--store", url,
-            "--serial", serial, "--lot", lot, "--part", "CAM-7", "--inspector", "ana",
+            "--serial", serial, "--lot", lot, "--part-number", "CAM-7", "--inspector", "ana",
             "--instrument", "fixture-2", *extra,
         ]
     )  # fmt: skip
@@ -34,9 +34,7 @@ def _inspect(url: str, serial: str, df: str, lot: str = "L1", *extra: str) -> in
 def test_conjugate_store_records_both_cams(
     store_url: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = _inspect(
-        store_url, "1", "20 + 3*sin(theta)", "L1", "--inspected-at", "2026-11-23T08:00:00Z"
-    )
+    code = _inspect(store_url, "1", "20 + 3*sin(theta)", "L1", "--date", "2026-11-23T08:00:00Z")
     assert code in (0, 1)
     assert (
         main(["conjugate", "-e", EX, "--df-mea", "20 + 3*sin(theta)", "--step", "1", "--json"])
@@ -107,7 +105,9 @@ def test_show_and_stats_against_the_library(
     )  # fmt: skip
     assert got["n_parts"] == 3 and got["record_ids"] == [r.id for r in lot]
     assert got["trend_basis"] == "serial"
-    assert got["cpk"] == pytest.approx(ref.cpk)
+    # max_dev has an upper limit only: Ppu on the parts' max deviations (schema 2.0)
+    s_max = float(np.std(ref.part_max_um, ddof=1))
+    assert got["ppu"]["value"] == pytest.approx((22.0 - ref.part_max_um.mean()) / (3 * s_max))
     assert got["trend_um_per_part"] == pytest.approx(ref.trend_um_per_part)
     assert got["fraction_failing_ci"] == pytest.approx(list(ref.fraction_failing_ci))
     rows = list(csv.reader(stats_csv.read_text().splitlines()))
@@ -159,11 +159,12 @@ def test_store_errors_exit_2_before_any_work(
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "cannot open the store" in err and "pw" not in err
 
-    assert main(["conjugate", "-e", EX, "--serial", "4"]) == 2
-    assert "--serial describes the part for the store" in capsys.readouterr().err
+    # issue 31: the part's identity applies without a store; --allow-duplicate needs one
+    assert main(["conjugate", "-e", EX, "--allow-duplicate"]) == 2
+    assert "--allow-duplicate applies to a stored record" in capsys.readouterr().err
     url = str(tmp_path / "r.db")
-    assert _inspect(url, "1", "20", "L1", "--inspected-at", "yesterday") == 2
-    assert "--inspected-at='yesterday'" in capsys.readouterr().err
+    assert _inspect(url, "1", "20", "L1", "--date", "yesterday") == 2
+    assert "--date='yesterday'" in capsys.readouterr().err
     # no measurement: nothing to record (cw11-experiment has no df_mea)
     code = main(["conjugate", "-e", "cw11-experiment", "--store", url, "--step", "1", "-q"])
     err = capsys.readouterr().err
@@ -198,6 +199,7 @@ def test_every_key_column_and_flag_is_documented(
     doc = (Path(__file__).resolve().parents[2] / "docs" / "records.md").read_text("utf-8")
     url = str(tmp_path / "r.db")
     assert _inspect(url, "1", "20") in (0, 1)
+    assert _inspect(url, "2", "21") in (0, 1)  # lot statistics need two parts
     capsys.readouterr()
     assert main(["records", "show", "1", "--store", url, "--json"]) == 0
     keys = set(json.loads(capsys.readouterr().out))
@@ -232,3 +234,24 @@ def test_every_key_column_and_flag_is_documented(
         and (cmd not in (conjugate, inspect) or str(p.name).startswith("store_"))
     }
     assert sorted(f for f in flags if f"`{f}" not in doc and f"{f} " not in doc) == []
+
+
+def test_show_lays_out_nested_values_within_80_columns() -> None:
+    from camtol.cli.records import _show_lines
+
+    data = {
+        "id": 7,
+        "design_hash": "sha256:" + "ab" * 32,
+        "cam": "",
+        "form_um": 7.272972113,
+        "options": {"datum": {"mode": "fit", "angle_deg": None}, "harmonics": 100},
+        "results": {"failing_intervals_deg": [], "dx_mm": 1.939791e-05},
+        "inputs": [{"role": "scan", "name": "b.csv", "sha256": "sha256:" + "cd" * 32}],
+    }
+    lines = _show_lines(data)
+    assert max(len(line) for line in lines) <= 80
+    assert "  sha256:" + "ab" * 32 in lines  # a hash too long for its line: next line, whole
+    assert "form_um           7.27297" in lines  # 6 significant digits, no repr
+    assert "cam               -" in lines
+    assert "    mode          fit" in lines and "  harmonics       100" in lines
+    assert "  failing_intervals_deg none" in lines

@@ -72,6 +72,9 @@ def records() -> None:
 )
 @_METHOD_OPTION
 @click.option("--all", "include_voided", is_flag=True, help="Voided records too, marked VOID.")
+@click.option(
+    "--wide", is_flag=True, help="Every column (design, part number, basis): over 80 columns."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON.")
 def list_records(
     store: str,
@@ -80,6 +83,7 @@ def list_records(
     cam: str | None,
     method: str | None,
     include_voided: bool,
+    wide: bool,
     as_json: bool,
 ) -> None:
     """List inspection records, oldest first: id, time, design, cam, part, verdict, figures."""
@@ -91,26 +95,51 @@ def list_records(
             )
         recs = _of_method(found, method)
         if as_json:
-            echo_json({"records": [r.summary() for r in recs]}, command="records list")
+            echo_json(  # 1.1: max_abs_ds_deg (issue 31)
+                {"records": [r.summary() for r in recs]},
+                command="records list",
+                schema_version="1.1",
+            )
             return EXIT_OK
-        lines = [
-            f"{'id':>5} {'inspected_at (UTC)':19} {'design':18} {'cam':3} {'part':12}"
-            f" {'serial':10} {'lot':10} {'on':2} {'verdict':7} {'max_um':>8} {'min_um':>8}"
-            f" {'form_um':>8}"
-        ]
-        lines += [
-            f"{r.id:>5} {r.inspected_at.strftime('%Y-%m-%d %H:%M:%S')} {r.design_name:18.18}"
-            f" {r.cam or '-':3} {r.part_number:12.12} {r.serial:10.10} {r.lot:10.10}"
-            f" {r.judged_on or '?':2} {r.verdict:7} {r.max_dev_um:8.2f} {r.min_dev_um:8.2f}"
-            f" {r.form_um:8.2f}" + (" VOID" if r.voided else "")
-            for r in recs
-        ]
+        lines = _list_lines(recs) if not wide else _wide_lines(recs)
         voided = sum(r.voided for r in recs)
         lines.append(f"{len(recs)} record(s)" + (f", {voided} void" if include_voided else ""))
         click.echo("\n".join(lines))
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+def _list_lines(recs: list[InspectionRecord]) -> list[str]:
+    """Format the records within 80 columns (design, part, basis: --wide, --json)."""
+    lines = [
+        f"{'id':>5} {'inspected (UTC)':16} {'serial':10} {'lot':7} {'cam':3} {'res.':4}"
+        f" {'max µm':>7} {'min µm':>7} {'form µm':>7}"
+    ]
+    lines += [
+        f"{r.id:>5} {r.inspected_at.strftime('%Y-%m-%d %H:%M')} {r.serial:10.10}"
+        f" {r.lot:7.7} {r.cam or '-':3} {r.verdict:4} {r.max_dev_um:7.2f} {r.min_dev_um:7.2f}"
+        f" {r.form_um:7.2f}" + (" VOID" if r.voided else "")
+        for r in recs
+    ]
+    return lines
+
+
+def _wide_lines(recs: list[InspectionRecord]) -> list[str]:
+    """Format every column, as wide as it takes (``--wide``)."""
+    lines = [
+        f"{'id':>5} {'inspected_at (UTC)':19} {'design':18} {'cam':3} {'part':12}"
+        f" {'serial':10} {'lot':10} {'on':2} {'verdict':7} {'max_um':>8} {'min_um':>8}"
+        f" {'form_um':>8}"
+    ]
+    lines += [
+        f"{r.id:>5} {r.inspected_at.strftime('%Y-%m-%d %H:%M:%S')} {r.design_name:18.18}"
+        f" {r.cam or '-':3} {r.part_number:12.12} {r.serial:10.10} {r.lot:10.10}"
+        f" {r.judged_on or '?':2} {r.verdict:7} {r.max_dev_um:8.2f} {r.min_dev_um:8.2f}"
+        f" {r.form_um:8.2f}" + (" VOID" if r.voided else "")
+        for r in recs
+    ]
+    return lines
 
 
 @records.command("show")
@@ -156,15 +185,71 @@ def show_record(
         if as_json:
             # the envelope's camtol_version is this camtol's; the record's is kept beside it
             data["record_camtol_version"] = rec.camtol_version
-            echo_json(data, command="records show")
+            echo_json(data, command="records show", schema_version="1.1")  # max_abs_ds_deg
         else:
-            for key, value in data.items():
-                click.echo(f"{key:17} {'' if value is None else value}")
+            for line in _show_lines(data):
+                click.echo(line)
         if curves:
             click.echo(f"wrote {curves}", err=as_json)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+def _show_value(value: Any) -> str:
+    """Format a stored value for reading: numbers to 6 significant digits, no reprs."""
+    if value is None or value == "":
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, list | tuple):
+        return ", ".join(_show_value(v) for v in value) or "none"
+    return str(value)
+
+
+def _show_lines(data: dict[str, Any], width: int = 80) -> list[str]:
+    """Lay out ``records show`` as label/value lines within ``width`` columns.
+
+    Nested tables (the method's options and results, the input files) become indented
+    ``key: value`` lines; a value too long for its line (a hash, a path) goes on the next
+    line, indented, and is wrapped only if it is longer than a whole line.
+    """
+    import textwrap
+
+    out: list[str] = []
+
+    def put(label: str, value: str, indent: int) -> None:
+        head = " " * indent + f"{label:{17 - indent}} "
+        if len(head) + len(value) <= width:
+            out.append(head + value)
+            return
+        out.append(head.rstrip())
+        pad = " " * (indent + 2)
+        out.extend(textwrap.wrap(value, width, initial_indent=pad, subsequent_indent=pad))
+
+    for key, value in data.items():
+        if isinstance(value, dict):
+            out.append(key)
+            for k, v in value.items():
+                if isinstance(v, dict):
+                    out.append(f"  {k}")
+                    for k2, v2 in v.items():
+                        put(k2, _show_value(v2), 4)
+                else:
+                    put(k, _show_value(v), 2)
+        elif key == "inputs" and isinstance(value, list):
+            out.append("inputs")
+            for item in value:
+                if isinstance(item, dict):
+                    put(str(item.get("role", "file")), str(item.get("name", "")), 2)
+                    for k in ("sha256", "size_bytes"):
+                        if k in item:
+                            put(k, _show_value(item[k]), 4)
+        else:
+            put(key, _show_value(value), 0)
+    return out
 
 
 @records.command("stats")
@@ -175,6 +260,46 @@ def show_record(
     "--cam",
     type=click.Choice(["A", "B", "single"]),
     help="Which cam; needed when the records hold more than one (a conjugate pair).",
+)
+@click.option(
+    "--characteristic",
+    type=click.Choice(["max_dev", "min_dev", "form", "max_abs_ds"]),
+    default="max_dev",
+    show_default=True,
+    help="Per-part value charted and judged (max_dev, form, max_abs_ds: upper limit only;"
+    " min_dev: lower).",
+)
+@click.option(
+    "--subgroup",
+    type=int,
+    default=1,
+    show_default=True,
+    metavar="N",
+    help="Subgroups of N consecutive parts (1: individuals, σ within from moving ranges).",
+)
+@click.option(
+    "--chart",
+    type=click.Choice(["imr", "xbar-r", "xbar-s"]),
+    help="Control chart (default: imr; xbar-r for N ≤ 8, xbar-s above).",
+)
+@click.option(
+    "--rules",
+    type=click.Choice(["we", "nelson"]),
+    default="we",
+    show_default=True,
+    help="Run rules flagged: Western Electric WE1-WE4 or Nelson N1-N8.",
+)
+@click.option(
+    "--limits-from",
+    metavar="LOT",
+    help="Freeze the control limits from this reference lot (same design, cam).",
+)
+@click.option(
+    "--capable-at",
+    type=float,
+    default=1.33,
+    show_default=True,
+    help="Capable when the lower 95 % bound of Ppk (Ppu, Ppl) reaches this.",
 )
 @click.option(
     "--confidence",
@@ -190,25 +315,84 @@ def show_record(
     metavar="FILE.csv",
     help="Write per angle: theta_deg, mean_um, std_um, max_um, min_um.",
 )
+@click.option(
+    "--plot", metavar="FILE.png", help="Write the control chart and histogram (PNG/SVG/PDF)."
+)
+@click.option("--report", metavar="FILE.html", help="Write the lot report (HTML, printable).")
 def stats(
     store: str,
     design: str,
     lot: str | None,
     cam: str | None,
+    characteristic: str,
+    subgroup: int,
+    chart: str | None,
+    rules: str,
+    limits_from: str | None,
+    capable_at: float,
     method: str | None,
     confidence: float,
     as_json: bool,
     curves: str | None,
+    plot: str | None,
+    report: str | None,
 ) -> None:
-    """Lot statistics: per-angle mean, σ, envelopes; Cp/Cpk; failing fraction; trend."""
+    """Lot statistics: capability with intervals, control chart and run rules, yield, trend.
+
+    Capability as ISO 22514-2 computes it on one characteristic per part: Pp/Ppk (overall
+    σ) and Cp/Cpk (σ within: moving ranges, or pooled subgroups with --subgroup), or the
+    one-sided Ppu/Cpu (Ppl/Cpl), each with its 95 % interval (chi-square, Bissell); an
+    Anderson-Darling normality test (percentile indices when it fails); the judgement on
+    the lower confidence bound. A control chart with Western Electric or Nelson run rules;
+    the yield with its exact interval; per-angle curves with --curves. Records judged on
+    different bases are never pooled. Documented in docs/records.md and docs/spc.md.
+    """
 
     def body() -> int:
         check_output_path(curves, "--curves", [".csv"])
-        from camtol.records.lot_summary import summarise_lot
+        check_output_path(plot, "--plot", [".png", ".svg", ".pdf"])
+        check_output_path(report, "--report", [".html"])
+        from camtol.records.lot_summary import reference_limits, summarise_lot
 
+        if chart is not None and chart != "imr" and subgroup < 2:
+            from camtol.cli.common import fail
+
+            fail(f"--chart={chart} needs --subgroup N with N ≥ 2 (consecutive parts)")
         with _open_existing(store) as s:
-            recs = s.records(design=design, lot=lot, cam=_cam_filter(cam), with_curves=True)
-        summary = summarise_lot(recs, design=design, lot=lot, method=method, confidence=confidence)
+            recs = s.records(
+                design=design, lot=lot, cam=_cam_filter(cam), with_curves=True, with_details=True
+            )
+            ref_recs = (
+                s.records(design=design, lot=limits_from, cam=_cam_filter(cam), with_details=True)
+                if limits_from is not None
+                else None
+            )
+        kind = chart or ("imr" if subgroup <= 1 else ("xbar-r" if subgroup <= 8 else "xbar-s"))
+        reference = (
+            reference_limits(
+                ref_recs,
+                lot=str(limits_from),
+                characteristic=characteristic,
+                chart=kind,
+                subgroup=subgroup,
+                method=method,
+            )
+            if ref_recs is not None
+            else None
+        )
+        summary = summarise_lot(
+            recs,
+            design=design,
+            lot=lot,
+            method=method,
+            confidence=confidence,
+            characteristic=characteristic,
+            subgroup=subgroup,
+            chart=kind,
+            rules=rules,
+            capable_at=capable_at,
+            reference=reference,
+        )
         st = summary.statistics
         if curves:
             _write_csv(
@@ -216,18 +400,43 @@ def stats(
                 ["theta_deg", "mean_um", "std_um", "max_um", "min_um"],
                 [st.theta_deg, st.mean_um, st.std_um, st.max_um, st.min_um],
             )
-        out = summary.to_dict()
+        out = _stats_document(summary.to_dict())
+        if plot:
+            from camtol.report.lot_report import write_lot_plot
+
+            write_lot_plot(out, plot)
+        if report:
+            from camtol.files import atomic_write
+            from camtol.report.lot_report import lot_report_html
+
+            atomic_write(
+                report, lot_report_html(out, records=[r.summary() for r in summary.records])
+            )
         if as_json:
-            echo_json(out, command="records stats")
+            echo_json(out)
         else:
-            for key, value in out.items():
-                if key != "record_ids":
-                    click.echo(f"{key:26} {'-' if value is None else value}")
-        if curves:
-            click.echo(f"wrote {curves}", err=as_json)
+            from camtol.report.lot_report import lot_text
+
+            click.echo("\n".join(lot_text(out)))
+        for path in (curves, plot, report):
+            if path:
+                click.echo(f"wrote {path}", err=as_json)
         return EXIT_OK
 
     raise _Exit(run_guarded(body))
+
+
+def _stats_document(data: dict[str, Any]) -> dict[str, Any]:
+    """Put the envelope (its own schema_version) on the ``records stats --json`` document."""
+    from camtol._version import __version__
+    from camtol.records.lot_summary import JSON_SCHEMA_VERSION
+
+    head = {
+        "schema_version": JSON_SCHEMA_VERSION,
+        "command": "records stats",
+        "camtol_version": __version__,
+    }
+    return {**head, **data}
 
 
 for _command in (rerun, void, export_records):

@@ -51,7 +51,7 @@ def rerun(record_id: int, store: str, as_json: bool) -> None:
             result = rerun_record(s, record_id, load_design=load_design)
         data = result.to_dict()
         if as_json:
-            echo_json(data, command="records rerun")
+            echo_json(data, command="records rerun", schema_version="1.1")  # max_abs_ds_deg
         else:
             from camtol._version import __version__
 
@@ -60,9 +60,9 @@ def rerun(record_id: int, store: str, as_json: bool) -> None:
             state = "identical" if result.identical else "DIFFERENT"
             click.echo(
                 f"record {rec.id} ({rec.method}{cam}, made by camtol {rec.camtol_version})"
-                f" re-run with camtol {__version__}: {state}; verdict"
-                f" {rec.verdict} -> {result.again.verdict}"
+                f" re-run with camtol {__version__}:"
             )
+            click.echo(f"  {state}; verdict {rec.verdict} -> {result.again.verdict}")
             for d in result.differences:
                 extra = (
                     ""
@@ -127,12 +127,11 @@ def _json_text(data: dict[str, object]) -> str:
     """Return the JSON document as ``echo_json`` prints it (envelope first)."""
     from camtol._version import __version__
     from camtol.report.finite import require_no_nan_json
-    from camtol.report.tables import SCHEMA_VERSION
     from camtol.report.units import json_ready
 
     require_no_nan_json(data)
     head = {
-        "schema_version": SCHEMA_VERSION,
+        "schema_version": "1.1",  # max_abs_ds_deg replaces max_abs_ds_urad (issue 31)
         "command": "records export",
         "camtol_version": __version__,
     }
@@ -175,7 +174,11 @@ def export_records(
         with open_for_reading(store) as s:
             recs = s.records(lot=lot, include_voided=include_voided)
         if fmt == "json" and output is None:
-            echo_json(export_json(recs, with_void=include_voided), command="records export")
+            echo_json(  # 1.1: max_abs_ds_deg replaces max_abs_ds_urad (issue 31)
+                export_json(recs, with_void=include_voided),
+                command="records export",
+                schema_version="1.1",
+            )
             return EXIT_OK
         if fmt == "csv":
             text = export_csv(recs, with_void=include_voided)

@@ -248,11 +248,12 @@ def _ratio(num: float, den: float) -> float:
 
 
 def _clopper_pearson(k: int, n: int, confidence: float) -> tuple[float, float]:
-    from scipy.stats import beta
+    # beta.ppf(q, a, b) is betaincinv(a, b, q): scipy.special spares importing scipy.stats
+    from scipy.special import betaincinv
 
     alpha = 1.0 - confidence
-    lo = 0.0 if k == 0 else float(beta.ppf(alpha / 2, k, n - k + 1))
-    hi = 1.0 if k == n else float(beta.ppf(1 - alpha / 2, k + 1, n - k))
+    lo = 0.0 if k == 0 else float(betaincinv(k, n - k + 1, alpha / 2))
+    hi = 1.0 if k == n else float(betaincinv(k + 1, n - k, 1 - alpha / 2))
     return lo, hi
 
 
@@ -304,7 +305,10 @@ def lot_statistics(
     n = max(np.asarray(c).size for c in curves_um)
     if n < 1:
         raise RecordError("lot statistics need curves with at least one point")
-    table = np.vstack([resample_periodic(np.asarray(c, dtype=np.float64), n) for c in curves_um])
+    table = np.empty((n_parts, n))  # filled row by row: no list of float64 copies to stack
+    for i, c in enumerate(curves_um):
+        c = np.asarray(c)
+        table[i] = c if c.size == n else resample_periodic(c.astype(np.float64), n)
     seq = (
         np.arange(n_parts, dtype=np.float64)
         if sequence is None
@@ -327,11 +331,12 @@ def lot_statistics(
 
     k = int(np.count_nonzero(np.asarray(failed, dtype=bool)))
     slope, stderr = _trend(seq, part_max)
+    mean = table.mean(axis=0)
     return LotStatistics(
         n_parts=n_parts,
         theta_deg=np.asarray(np.arange(n) * (360.0 / n), dtype=np.float64),
-        mean_um=table.mean(axis=0),
-        std_um=(table.std(axis=0, ddof=1) if n_parts > 1 else np.full(n, math.nan)),
+        mean_um=mean,
+        std_um=_std_by_angle(table, mean),
         max_um=table.max(axis=0),
         min_um=table.min(axis=0),
         part_max_um=part_max,
@@ -349,6 +354,21 @@ def lot_statistics(
         trend_stderr_um_per_part=stderr,
         sequence=seq,
     )
+
+
+def _std_by_angle(table: FloatArray, mean: FloatArray, block: int = 512) -> FloatArray:
+    """Per-angle sample σ (ddof 1), two-pass over blocks of parts (no table-sized temporary).
+
+    Same figures as ``table.std(axis=0, ddof=1)``; NaN for one part.
+    """
+    n_parts = table.shape[0]
+    if n_parts < 2:
+        return np.full(table.shape[1], math.nan)
+    ss = np.zeros(table.shape[1])
+    for k in range(0, n_parts, block):
+        d = table[k : k + block] - mean
+        ss += np.einsum("ij,ij->j", d, d)
+    return np.asarray(np.sqrt(ss / (n_parts - 1)))
 
 
 def _trend(x: FloatArray, y: FloatArray) -> tuple[float, float]:

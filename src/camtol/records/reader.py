@@ -105,6 +105,7 @@ class StoreReader:
         cam: str | None = None,
         with_curves: bool = False,
         include_voided: bool = False,
+        with_details: bool = False,
     ) -> list[InspectionRecord]:
         """Return the records matching every filter given, oldest first (by time, then id).
 
@@ -120,6 +121,9 @@ class StoreReader:
             Read the curves too; without, ``dr_um`` is empty (faster for listing).
         include_voided : bool, optional
             Voided records too (by default they are left out).
+        with_details : bool, optional
+            Read each record's options and results too (``records stats`` judges Δn
+            characteristics and motion specs from them).
 
         Returns
         -------
@@ -139,6 +143,7 @@ class StoreReader:
                 cam=cam,
                 with_curves=with_curves,
                 include_voided=include_voided,
+                with_details=with_details,
             )
         )
 
