@@ -22,11 +22,13 @@ from common import Figure  # noqa: E402
 BENCHMARKS = [
     "bench_analyze",
     "bench_cli",
+    "bench_startup",
     "bench_contact",
     "bench_inspection",
     "bench_manufacturing",
     "bench_record",
     "bench_store",
+    "bench_spc",
     "bench_montecarlo",
     "bench_pair",
     "bench_dynamics",

@@ -182,9 +182,27 @@ def test_no_import_circle() -> None:
 
 
 #: Libraries the core never imports: plotting, terminal, command line, file formats,
-#: validation of files and databases belong to the edges (report, records, config, cli).
-FORBIDDEN_IN_CORE = {"matplotlib", "ezdxf", "click", "rich", "pydantic", "sqlalchemy", "alembic"}
-EDGES = ("camtol.cli", "camtol.config", "camtol.export", "camtol.report", "camtol.records")
+#: validation of files, databases and the web page belong to the edges (report, records,
+#: config, cli, web).
+FORBIDDEN_IN_CORE = {
+    "matplotlib",
+    "ezdxf",
+    "click",
+    "rich",
+    "pydantic",
+    "sqlalchemy",
+    "alembic",
+    "flask",
+    "waitress",
+}
+EDGES = (
+    "camtol.cli",
+    "camtol.web",
+    "camtol.config",
+    "camtol.export",
+    "camtol.report",
+    "camtol.records",
+)
 
 
 @pytest.mark.parametrize(

@@ -65,6 +65,10 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "profile": [
         ["profile", "-e", "roller-translating", "-o", "{tmp}/p.csv", "--json"],
         ["profile", "-e", "cw11-conjugate", "-o", "{tmp}/p.dxf", "--json"],
+        ["profile", "-e", "cw06-translating", "-o", "{tmp}/p.nc", "--cutter-radius", "5"]
+        + ["--feed", "300", "--json"],  # a G-code program, 2D
+        ["profile", "-e", "cw11-conjugate", "-o", "{tmp}/p.ngc", "--cutter-radius", "4"]
+        + ["--feed", "300", "--safe-z", "5", "--cut-z", "-3", "--plunge-feed", "40", "--json"],
     ],
     "report": [["report", "-e", "cw06-translating", "-o", "{tmp}/r.html", "--json"]],
     "verify": [
@@ -76,6 +80,8 @@ INVOCATIONS: dict[str, list[list[str]]] = {
         ["size", "-e", "roller-translating", "--json"],
         ["size", "-e", "cw06-translating", "--json"],
         ["size", "-e", "roller-translating", "--jump-margin", "1.3", "--mass-kg", "0.5", "--json"],
+        ["size", "-e", "roller-oscillating", "--linkage", "pivot", "--json"],
+        ["size", "-e", "cw11-conjugate", "--linkage", "scale", "--json"],
     ],
     "precision": [
         ["precision", "-e", "roller-translating", "--decimals", "4", "--json"],
@@ -94,6 +100,8 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "cut": [
         ["cut", "-e", "popa-eccentric", "--cut-step", "1,5", "--json"],
         ["cut", "-e", "cw11-conjugate", "--cut-step", "1", "--json"],  # cam "A", degrees
+        ["cut", "-e", "popa-eccentric", "--cut-step", "1,2", "--lift-tolerance-um", "3"]
+        + ["--json"],  # the recommendation among the listed steps
     ],
     "derive": [
         ["derive", "{tmp}/lift.csv", "--json"],
@@ -121,10 +129,10 @@ INVOCATIONS: dict[str, list[list[str]]] = {
     "records rerun": [  # a CMM record and a fixture record, judged again from their raw data
         ["records", "rerun", rid, "--store", "{store}", "--json"] for rid in ("1", "4")
     ],
-    "records stats": [
+    "records stats": [  # cam A has one record: a lot of one is refused (no σ)
         ["records", "stats", "--store", "{store}", "--design", "cw11-experiment", "--json"]
-        + ["--cam", cam]
-        for cam in ("B", "A")
+        + ["--cam", "B", "--method", "cmm", *extra]
+        for extra in ([], ["--characteristic", "form", "--rules", "nelson"])
     ],
 }
 

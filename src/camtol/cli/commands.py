@@ -42,7 +42,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "size": (
         "camtol.cli.size",
         "size",
-        "Find the smallest base radius (and offset) meeting the pressure-angle and curvature"
+        "Find the smallest base radius (offset, linkage) meeting pressure-angle and curvature"
         " limits.",
     ),
     "dynamics": (
@@ -89,6 +89,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "camtol.cli.simulate",
         "simulate",
         "Digital twins: simulated measurement files with their truth beside them.",
+    ),
+    "serve": (
+        "camtol.cli.serve",
+        "serve",
+        "Serve the quality department's read-only page of a store: lots, charts, records.",
     ),
 }
 

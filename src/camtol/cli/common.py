@@ -265,7 +265,7 @@ def _numerical_failure(exc: BaseException) -> str:
     )
 
 
-def echo_json(data: Any, *, command: str | None = None) -> None:
+def echo_json(data: Any, *, command: str | None = None, schema_version: str | None = None) -> None:
     """Print a command's JSON document on stdout: strict JSON, floats to 10 digits.
 
     Parameters
@@ -276,6 +276,9 @@ def echo_json(data: Any, *, command: str | None = None) -> None:
         The command's name: the document then starts with ``schema_version``,
         ``command`` and ``camtol_version`` (the envelope of every ``--json`` output,
         described by ``camtol/data/schemas/<command>.schema.json``).
+    schema_version : str, optional
+        That document's own layout version, when it moved past the common
+        ``SCHEMA_VERSION`` (a key changed meaning).
     """
     from camtol.report.finite import require_no_nan_json
     from camtol.report.units import json_ready
@@ -286,7 +289,8 @@ def echo_json(data: Any, *, command: str | None = None) -> None:
     if command is not None and isinstance(data, dict):
         from camtol.report.tables import SCHEMA_VERSION
 
-        head = {"schema_version": SCHEMA_VERSION, "command": command, "camtol_version": __version__}
+        version = schema_version or SCHEMA_VERSION
+        head = {"schema_version": version, "command": command, "camtol_version": __version__}
         data = {**head, **{k: v for k, v in data.items() if k not in head}}
     text = json.dumps(json_ready(data), indent=2, allow_nan=False, ensure_ascii=False)
     click.echo(text)

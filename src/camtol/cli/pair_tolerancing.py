@@ -140,8 +140,7 @@ def pair_montecarlo(
         }
     if samples < 1000:
         click.echo(
-            f"warning: {samples} samples: the sampled figures (maxima, interference, backlash,"
-            " yields) are rough below 1,000",
+            f"warning: {samples} samples, fewer than 1,000: the sampled figures are rough",
             err=True,
         )
     if curves:

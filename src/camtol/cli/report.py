@@ -22,6 +22,7 @@ from camtol.cli.common import (
     load_input,
     run_guarded,
 )
+from camtol.cli.gcode_output import GCODE_SUFFIXES, gcode_options, write_gcode_output
 from camtol.cli.inspection_options import (
     check_cmm_options,
     command_fixture_inputs,
@@ -61,21 +62,7 @@ __all__ = ["profile", "report"]
     metavar="MM",
     help="Also write the cutter-centre path for a cutter of this radius [mm].",
 )
-@click.option(
-    "--gcode", "gcode_mode", type=click.Choice(["arcs", "lines"]), default="arcs",
-    show_default=True, help="G-code output: G02/G03 biarcs or G01 chords.",
-)  # fmt: skip
-@click.option(
-    "--wire-radius", "wire_radius_mm", default=None,
-    type=Number(low=0, high=MAX_TOOL_RADIUS_MM, unit="mm"),
-    metavar="MM",
-    help="G-code for wire EDM: wire radius [mm] (offset = wire radius + spark gap).",
-)  # fmt: skip
-@click.option(
-    "--spark-gap", "spark_gap_mm", type=Number(low=0, unit="mm"), default=0.0,
-    show_default=True, metavar="MM",
-    help="Wire-EDM spark gap (overcut per side) [mm].",
-)  # fmt: skip
+@gcode_options
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing on success.")
 def profile(
@@ -87,6 +74,11 @@ def profile(
     gcode_mode: str,
     wire_radius_mm: float | None,
     spark_gap_mm: float,
+    feed_mm_min: float | None,
+    lead_radius_mm: float | None,
+    safe_z_mm: float | None,
+    cut_z_mm: float | None,
+    plunge_feed_mm_min: float | None,
     as_json: bool,
     quiet: bool,
 ) -> None:
@@ -96,7 +88,9 @@ def profile(
     by less than --tolerance. DXF layers: CAM_PROFILE, CAM_PITCH_CURVE (roller followers),
     CAM_CUTTER_PATH (with --cutter-radius), CAM_CENTRE; a conjugate pair has CAM_A_* and
     CAM_B_* layers.
-    Coordinates in mm in the cam frame (origin at the cam pivot).
+    Coordinates in mm in the cam frame (origin at the cam pivot). G-code (.nc, .ngc,
+    .tap) is a program to run: units, plane, absolute mode, --feed, lead-in and lead-out
+    arcs, a 2D contour unless --safe-z/--cut-z/--plunge-feed ask for Z moves.
     """
 
     def body() -> int:
@@ -104,13 +98,24 @@ def profile(
         from camtol.report.export import EXPORT_SUFFIXES
 
         guard_paths({"DESIGN": design}, {"--output": output})
+        machine = {
+            "feed_mm_min": feed_mm_min,
+            "lead_radius_mm": lead_radius_mm,
+            "safe_z_mm": safe_z_mm,
+            "cut_z_mm": cut_z_mm,
+            "plunge_feed_mm_min": plunge_feed_mm_min,
+        }
         if Path(output).suffix.lower() in GCODE_SUFFIXES:
-            return _write_gcode(
+            return write_gcode_output(
                 load_input, design, example, output, tolerance_um, cutter_radius_mm,
-                gcode_mode, wire_radius_mm, spark_gap_mm, as_json, quiet,
+                gcode_mode, wire_radius_mm, spark_gap_mm, as_json, quiet, machine,
             )  # fmt: skip
         if wire_radius_mm is not None or spark_gap_mm != 0.0:
             fail("--wire-radius and --spark-gap are only allowed for G-code output (-o FILE.nc)")
+        given = [k for k, v in machine.items() if v is not None]
+        if given:
+            flag = "--" + given[0].rsplit("_mm", 1)[0].replace("_", "-")
+            fail(f"{flag} is only allowed for G-code output (-o FILE.nc, .ngc or .tap)")
         check_output_path(output, "--output", list(EXPORT_SUFFIXES) + list(GCODE_SUFFIXES))
         if cutter_radius_mm is not None and not (cutter_radius_mm > 0):
             fail(
@@ -151,71 +156,6 @@ def profile(
     raise _Exit(run_guarded(body))
 
 
-#: Output suffixes written as G-code by ``camtol profile``.
-GCODE_SUFFIXES: tuple[str, ...] = (".nc", ".ngc", ".tap")
-
-
-def _write_gcode(
-    load: Any,
-    design: str | None,
-    example: str | None,
-    output: str,
-    tolerance_um: float,
-    cutter_radius_mm: float | None,
-    mode: Any,
-    wire_radius_mm: float | None,
-    spark_gap_mm: float,
-    as_json: bool,
-    quiet: bool,
-) -> int:
-    """``camtol profile -o cam.nc``: the cutter-centre path as G-code (THEORY §6)."""
-    from camtol.files import atomic_write
-    from camtol.manufacturing.gcode import write_gcode
-
-    check_output_path(output, "--output", list(GCODE_SUFFIXES))
-    if (cutter_radius_mm is None) == (wire_radius_mm is None):
-        fail("G-code output needs exactly one of --cutter-radius MM or --wire-radius MM")
-    if wire_radius_mm is None and spark_gap_mm != 0.0:
-        fail("--spark-gap is the wire-EDM overcut: give --wire-radius MM as well")
-    if wire_radius_mm is not None and wire_radius_mm + spark_gap_mm > MAX_TOOL_RADIUS_MM:
-        fail(
-            f"--wire-radius + --spark-gap = {wire_radius_mm + spark_gap_mm:g} mm is not"
-            f" allowed; the offset may be at most {MAX_TOOL_RADIUS_MM:g} mm"
-        )
-    from camtol.analysis.validity import check_design_geometry
-
-    d = load(design, example)
-    check_design_geometry(d)  # an impossible cam is not cut (issue 9)
-    prog = write_gcode(
-        d,
-        tool_radius_mm=cutter_radius_mm,
-        tolerance_mm=tolerance_um * 1e-3,
-        mode=mode,
-        wire_radius_mm=wire_radius_mm,
-        spark_gap_mm=spark_gap_mm,
-    )
-    atomic_write(output, prog.text)
-    if as_json:
-        doc = {
-            "path": str(output),
-            "format": "gcode",
-            "mode": prog.mode,
-            "tolerance_um": prog.tolerance_mm * 1e3,
-            "tool_radius_mm": prog.tool_radius_mm,
-            "blocks": prog.blocks,
-            "max_fit_deviation_um": prog.max_fit_deviation_mm * 1e3,
-        }
-        echo_json(doc, command="profile")
-    elif not quiet:
-        click.echo(
-            f"G-code ({prog.mode}): {prog.blocks} blocks, cutter-path offset"
-            f" {prog.tool_radius_mm:g} mm, fit within {prog.max_fit_deviation_mm * 1e3:.3g} µm"
-            f" (tolerance {prog.tolerance_mm * 1e3:g} µm)"
-        )
-        click.echo(f"wrote {output}")
-    return EXIT_OK
-
-
 def _traceability_options(f: Any) -> Any:
     from camtol.report.qa import TRACEABILITY_FIELDS
 
@@ -227,6 +167,55 @@ def _traceability_options(f: Any) -> Any:
             help=f"Traceability: {label} (overrides the design's [traceability] table).",
         )(f)
     return f
+
+
+def _cmm_part(
+    design: Any,
+    scan: str,
+    stylus_mm: float,
+    datum_text: str,
+    decision: str,
+    u_cmm_um: float | None,
+    step_deg: float,
+    traceability: dict[str, str | None],
+) -> tuple[Any, str]:
+    """Inspect a single cam's scan for ``camtol report --cmm`` (as ``camtol inspect``).
+
+    The scan header's stylus radius is used when ``--cmm-stylus-radius-mm`` is not given.
+
+    Returns
+    -------
+    (CmmPart, str)
+        The inspection's JSON-ready data (with traceability), and its report section
+        (:func:`camtol.report.inspection_report.cmm_section_html`, with the figure).
+    """
+    from camtol.cli.inspect import parse_datum
+    from camtol.inspection.cmm import header_stylus_radius_mm
+    from camtol.inspection.cmm_run import CmmInputs, run_cmm
+    from camtol.report import inspection_report as rep
+    from camtol.report.qa import CmmPart
+
+    header = header_stylus_radius_mm(scan)
+    stylus = header if (stylus_mm == 0.0 and header) else stylus_mm
+    inputs = CmmInputs(
+        points_path=scan,
+        stylus_radius_mm=stylus,
+        datum=parse_datum(datum_text, None, None, "soft_l1"),
+        step_deg=step_deg,
+        decision=decision,
+        u_cmm_um=u_cmm_um,
+    )
+    run = run_cmm(design, inputs)
+    data = rep.inspection_json(
+        run.inspection, run.functional, design=design.name, stylus_radius_mm=stylus
+    )
+    given = {k: v for k, v in traceability.items() if v is not None}
+    data["traceability"] = rep.traceability_json(given, design=design, scan_path=scan)
+    from camtol.report.html import figure_svg
+    from camtol.report.inspection_plots import inspection_figure
+
+    fig = inspection_figure(run.inspection, run.profile, run.functional)
+    return CmmPart(data), rep.cmm_section_html(data, figure_svg(fig, prefix="cmm"))
 
 
 def dynamics_report_section(design: Any) -> str:
@@ -264,6 +253,19 @@ def dynamics_report_section(design: Any) -> str:
 )
 @step_option()
 @inspection_options
+@click.option(
+    "--cmm",
+    "cmm",
+    metavar="SCAN.csv|.dmi",
+    help="CMM scan of a single cam (as `camtol inspect --points`): its inspection against"
+    " the design's [inspection] zone goes into the report (a pair: --cmm-a/--cmm-b).",
+)
+@click.option(
+    "--u-cmm-um",
+    "u_cmm_um",
+    type=Number(low=0, unit="µm"),
+    help="With --cmm and --decision guard-band: the CMM's expanded uncertainty U [µm].",
+)
 @click.option(
     "--no-fail",
     is_flag=True,
@@ -310,6 +312,8 @@ def report(
     cmm_stylus_mm: float,
     cmm_datum: str,
     decision: str,
+    cmm: str | None,
+    u_cmm_um: float | None,
     no_fail: bool,
     radius_table: bool,
     as_json: bool,
@@ -349,18 +353,28 @@ def report(
                 ("--record", record_path),
                 ("--cmm-a", cmm_a),
                 ("--cmm-b", cmm_b),
+                ("--cmm", cmm),
                 ("--mc-band", mc_band),
             )
             if value is not None and Path(value).exists()
         }
         guard_paths({"DESIGN": design, **csv_inputs}, {"--output": output})
-        check_cmm_options(cmm_a, cmm_b, cmm_stylus_mm, cmm_datum)
+        from camtol.cli.recording import check_trace_text
+        from camtol.pair.kinematics import is_pair
+
+        check_trace_text({f"--{k.replace('_', '-')}": v for k, v in traceability.items()})
+        d = load_input(design, example)  # the kind of design decides which scans apply
+        check_cmm_options(cmm_a, cmm_b, cmm_stylus_mm, cmm_datum, cmm=cmm, pair=is_pair(d))
+        if decision == "guard-band" and cmm is not None and u_cmm_um is None:
+            fail(
+                "--decision guard-band needs the measurement uncertainty: give --u-cmm-um U"
+                " (the CMM's expanded uncertainty, µm), or use --decision simple"
+            )
         check_output_path(output, "--output", [".html", ".htm"])
         mc_limits = {"--mc-spec-um": mc_spec_um, "--mc-spec-deg": mc_spec_deg, "--mc-band": mc_band}
         mc_given = [k for k, v in mc_limits.items() if v is not None]
         if mc_given and mc_samples is None:
             fail(f"{mc_given[0]} is only allowed with --montecarlo N")
-        d = load_input(design, example)
         mc_spec = mc_curves = None
         if mc_samples is not None:
             from camtol.cli.tolerancing import band_option, parse_motion_spec
@@ -380,22 +394,26 @@ def report(
         if d.extras.get("dynamics") is not None:  # the design's [dynamics] table (issue 33)
             sections.append(dynamics_report_section(d))
         fixture = None
-        from camtol.pair.fixture_run import run_fixture
-        from camtol.pair.kinematics import is_pair
-
+        cmm_part = None
+        if cmm is not None:
+            cmm_part, section = _cmm_part(
+                d, cmm, cmm_stylus_mm, cmm_datum, decision, u_cmm_um, step_deg, traceability
+            )
+            sections.insert(0, section)
         if is_pair(d) and (
             d.inspection is not None
             or has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b)
         ):
             from camtol.grid import check_step
             from camtol.pair.fixture import MAX_FIXTURE_POINTS
+            from camtol.pair.fixture_run import run_fixture  # a pair's only (start-up)
 
             check_step(step_deg, name="--step", min_points=4, max_points=MAX_FIXTURE_POINTS)
             inputs = command_fixture_inputs()
             run = run_fixture(d, inputs, who="the inspection options of `camtol report` need")
             fixture = InspectionReport(run.inspection, run.spec, run.record, run.decision)
         elif has_inspection_input(df_mea, record_path, master_a, master_b, cmm_a, cmm_b) or (
-            decision != "simple"
+            decision != "simple" and cmm is None
         ):
             fail(
                 f"follower.type={d.mechanism.kind!r}: --df-mea, --record, --master-a/-b,"
@@ -413,8 +431,9 @@ def report(
             traceability=given,
             radius_table=make_radius_table(d) if radius_table else None,
             sections=sections,
+            cmm=cmm_part,
         )
-        verdict = overall_verdict(a, fixture)
+        verdict = overall_verdict(a, fixture, cmm=cmm_part)
         from camtol.report.display import display_analysis
 
         shown = display_analysis(a)
@@ -443,7 +462,10 @@ def report(
                 }
             echo_json(doc, command="report")
         elif not quiet:
-            click.echo(f"{verdict.headline}; wrote {output}")
+            import textwrap
+
+            click.echo(textwrap.fill(verdict.headline, 80, subsequent_indent="  "))
+            click.echo(f"wrote {output}")
         return status
 
     raise _Exit(run_guarded(body))

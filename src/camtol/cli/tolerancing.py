@@ -333,8 +333,10 @@ def montecarlo(
                 force_max_n=force_max_n,
                 jump_margin=jump_margin,
             )
-        for w in res.warnings:
-            click.echo(f"warning: {w}", err=True)
+        import textwrap
+
+        for w in res.warnings:  # 80 columns, continuations indented
+            click.echo(textwrap.fill(f"warning: {w}", 80, subsequent_indent="  "), err=True)
         from camtol.report.tolerancing_text import curves_csv, montecarlo_lines
 
         if curves:
@@ -388,9 +390,8 @@ def _warn_unmet(res: Any) -> None:
     if not res.met:
         y = res.verified
         click.echo(
-            f"warning: the verified yield {y.value:.4%} (95 % CI [{y.ci95[0]:.4%},"
-            f" {y.ci95[1]:.4%}]) is below the target {res.target_yield:.4%}: the allocation"
-            " does not meet it",
+            f"warning: the allocation does not meet the {100 * res.target_yield:.6g} % yield"
+            f" target: verified {100 * y.value:.6g} %",
             err=True,
         )
 
@@ -564,29 +565,30 @@ def allocate(
             echo_json(out, command="allocate")
             return EXIT_OK
         echo = click.echo
+        unit_shown = {"um": " µm", "deg": "°"}.get(unit, f" {unit}")  # as the terminal shows it
         what_spec = (
             f"band {res.band} (lower <= dS <= upper)"
             if res.spec is None
-            else f"spec max |dS| <= {spec_shown:g} {unit}"
+            else f"spec max |ΔS| ≤ {spec_shown:g}{unit_shown}"
         )
         echo(f"camtol allocate: {d.name}, {what_spec}, criterion {res.criterion}")
         for t in res.deviations:
             echo(f"  {t.key:<6}{res.grades[t.key]:<6}{t.display}")
         what = "yield" if res.criterion == "monte_carlo" else f"max {res.criterion}"
         if res.criterion == "monte_carlo":
-            val = f"{achieved:.4%}"
+            val = f"{100 * achieved:.6g} %"
         elif res.spec is None:
             what += " / band half-width"
             val = f"{achieved:.4g}"
         else:
-            val = f"{achieved:.4g} {unit}"
+            val = f"{achieved:.4g}{unit_shown}"
         echo(f"  {what}: {val}; cost {res.cost:.4g}; {res.evaluated} combinations evaluated")
         echo(f"  accuracy of the output (worst case): {res.accuracy.describe()}")
         y = res.verified
+        echo(f"  verified by Monte Carlo ({y.samples} samples): yield {100 * y.value:.6g} %,")
         echo(
-            f"  verified by Monte Carlo ({y.samples} samples): yield {y.value:.4%},"
-            f" 95 % CI [{y.ci95[0]:.4%}, {y.ci95[1]:.4%}]; target {res.target_yield:.4%}:"
-            f" {res.verdict}"
+            f"    95 % interval {100 * y.ci95[0]:.6g} % to {100 * y.ci95[1]:.6g} %;"
+            f" target {100 * res.target_yield:.6g} %: {res.verdict}"
         )
         if res.verdict == "inconclusive":
             echo(
