@@ -4,4 +4,7 @@ import sys
 
 from camtol.cli.app import main
 
-sys.exit(main())
+# Guarded: worker processes started with ``spawn`` (exact-mode Monte Carlo) import the
+# main module again, and must not run the command a second time.
+if __name__ == "__main__":
+    sys.exit(main())

@@ -165,7 +165,7 @@ def _plot(shown: Any, path: str) -> None:
     type=Number(low=1, integer=True),
     default=1,
     show_default=True,
-    help="Local threads.",
+    help="Local workers: threads (linear mode), processes (exact mode).",
 )
 @click.option(
     "--derivatives", is_flag=True, help="Also sample ΔV and ΔA (linear mode; JSON max_abs_dV/dA)."

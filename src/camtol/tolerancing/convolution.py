@@ -38,7 +38,6 @@ only over the lattice cells its range covers in that block.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -63,18 +62,6 @@ POINTS = 2048
 BLOCK = 128
 #: Normal parts are cut at ±Z_TAIL σ (the mass beyond is 2.3e-19).
 Z_TAIL = 9.0
-
-
-def fft_workers() -> int:
-    """Threads for the FFTs of the lattice: the cores this process may run on.
-
-    The per-angle distributions are computed once per study in the calling process (not
-    inside Monte Carlo workers), so they may use every core; pocketfft splits the rows.
-    """
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # not on Linux
-        return max(1, os.cpu_count() or 1)
 
 
 @dataclass(frozen=True)
@@ -269,7 +256,6 @@ def _block_lattice(
     """
     import scipy.fft as sf
 
-    workers = fft_workers()
     off = offset[rows]
     nr = off.size
     scales = [c.scale[rows] for c in comps]
@@ -306,13 +292,13 @@ def _block_lattice(
         if dirty > cols:
             buf[:, cols:dirty] = 0.0
         dirty = cols
-        f = sf.rfft(buf, axis=1, workers=workers)
+        f = sf.rfft(buf, axis=1)
         spectrum = f if spectrum is None else np.multiply(spectrum, f, out=spectrum)
     if spectrum is None:
         pmf_sum = np.zeros((nr, points))
         pmf_sum[:, 0] = 1.0
     else:
-        pmf_sum = sf.irfft(spectrum, n=points, axis=1, workers=workers)
+        pmf_sum = sf.irfft(spectrum, n=points, axis=1)
     cdf = np.cumsum(pmf_sum, axis=1)
     cdf /= cdf[:, -1:]
     active = np.sum([w > 0 for w in widths], axis=0) if widths else np.zeros(nr)

@@ -220,7 +220,8 @@ def monte_carlo(
     step_deg : float
         θ grid step. [deg]
     chunks_per_task, workers : int
-        Chunks per task and local threads (do not change the numbers).
+        Chunks per task and local workers: threads in linear mode, processes in exact
+        mode (from 200 samples per process). Neither changes the numbers.
     scheduler : str or dask.distributed.Client, optional
         Run the tasks on a Dask cluster (``tcp://host:port``) (linear mode).
     progress : callable, optional
@@ -264,7 +265,14 @@ def monte_carlo(
             raise DesignError("ΔV and ΔA statistics are supported in linear mode only")
 
         return run_exact(
-            study, int(samples), int(seed), spec, progress, band=curves, band_text=band_text
+            study,
+            int(samples),
+            int(seed),
+            spec,
+            progress,
+            band=curves,
+            band_text=band_text,
+            workers=max(1, int(workers)),
         )
     top = _max_tops(study)
     sampled = _sampled_labels(study)
