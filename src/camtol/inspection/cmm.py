@@ -166,6 +166,21 @@ def _coordinate_columns(table: Table) -> tuple[dict[str, str], float]:
     return {axis: name for axis, (name, _) in found.items()}, scales.pop()
 
 
+def _flag_column(table: Any, name: str, meaning: str) -> NDArray[np.bool_]:
+    """Read a 0/1 flag column of a point file (all False when absent; other values refused)."""
+    if name not in table:
+        return np.zeros(table.rows, dtype=bool)
+    v = table.column(name)
+    bad = (v != 0) & (v != 1)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise InputFileError(
+            f"{table.source}, line {table.line_of(i)}: column {name!r}={v[i]:g} is not"
+            f" allowed; give {meaning}"
+        )
+    return np.asarray(v == 1)
+
+
 def read_scan(
     path: str | Path,
     *,
@@ -230,28 +245,8 @@ def read_scan(
     x = table.column(cols["x"]) * scale
     y = table.column(cols["y"]) * scale
     rows = np.arange(table.rows, dtype=np.intp)
-    bore = np.zeros(table.rows, dtype=bool)
-    if "bore" in table:
-        b = table.column("bore")
-        bad = (b != 0) & (b != 1)
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            raise InputFileError(
-                f"{table.source}, line {table.line_of(i)}: column 'bore'={b[i]:g} is not"
-                " allowed; give 1 for a bore point, 0 for a profile point"
-            )
-        bore = b == 1
-    keyway = np.zeros(table.rows, dtype=bool)
-    if "keyway" in table:
-        kw = table.column("keyway")
-        bad = (kw != 0) & (kw != 1)
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            raise InputFileError(
-                f"{table.source}, line {table.line_of(i)}: column 'keyway'={kw[i]:g} is not"
-                " allowed; give 1 for a keyway point, 0 otherwise"
-            )
-        keyway = (kw == 1) & ~bore
+    bore = _flag_column(table, "bore", "1 for a bore point, 0 for a profile point")
+    keyway = _flag_column(table, "keyway", "1 for a keyway point, 0 otherwise") & ~bore
     if "cam" in table:
         c = table.column("cam")
         bad = (c != 1) & (c != 2)

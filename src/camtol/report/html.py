@@ -22,6 +22,7 @@ from camtol.analysis.kinematics import beyond_pressure_angle_limit
 from camtol.design.cam_design import IT_CONVENTIONS, CamDesign
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
 from camtol.report.qa import (
+    BASE_CSS,
     PRINT_CSS,
     TRACEABILITY_FIELDS,
     CmmPart,
@@ -59,17 +60,12 @@ CONVENTIONS: tuple[str, ...] = (
     " linkage); the worst case is Σ|ΔS_p| and the RMS is sqrt(Σ ΔS_p²)",
 )
 
-_CSS = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2em auto;
-max-width:1100px;padding:0 1em;color:#1a1a1a;line-height:1.45}
-h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
-margin-top:1.6em}table{border-collapse:collapse;margin:.6em 0}
-th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left;vertical-align:top}
-td.num{text-align:right;font-variant-numeric:tabular-nums}th{background:#f2f2f2}
-.meta{color:#555}.pass{color:#11702b;font-weight:600}.fail{color:#b00020;font-weight:600}
-.figure{margin:1em 0}.figure svg{max-width:100%;height:auto}
+_CSS = (
+    BASE_CSS
+    + """.figure{margin:1em 0}.figure svg{max-width:100%;height:auto}
 .figure figcaption{color:#444;font-size:.92em}code{background:#f5f5f5;padding:0 .2em}
 """
+)
 
 
 def _e(text: object) -> str:

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from camtol.report.qa import PRINT_CSS
+from camtol.report.qa import BASE_CSS, PRINT_CSS
 
 __all__ = [
     "INDEX_NAMES",
@@ -501,16 +501,7 @@ def write_lot_plot(doc: dict[str, Any], path: str) -> None:
     atomic_write(path, buf.getvalue())
 
 
-_CSS = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2em auto;
-max-width:1100px;padding:0 1em;color:#1a1a1a;line-height:1.45}
-h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
-margin-top:1.6em}table{border-collapse:collapse;margin:.6em 0}
-th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left;vertical-align:top}
-td.num{text-align:right;font-variant-numeric:tabular-nums}th{background:#f2f2f2}
-.meta{color:#555}.pass{color:#11702b;font-weight:600}.fail{color:#b00020;font-weight:600}
-.figure svg{max-width:100%;height:auto}code{background:#f5f5f5;padding:0 .2em}
-"""
+_CSS = BASE_CSS + ".figure svg{max-width:100%;height:auto}code{background:#f5f5f5;padding:0 .2em}\n"
 
 
 def _e(x: object) -> str:

@@ -50,6 +50,17 @@ TRACEABILITY_FIELDS: tuple[tuple[str, str], ...] = (
     ("date", "inspection date"),
 )
 
+#: The screen style every camtol HTML report shares (part report, lot report).
+BASE_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2em auto;
+max-width:1100px;padding:0 1em;color:#1a1a1a;line-height:1.45}
+h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
+margin-top:1.6em}table{border-collapse:collapse;margin:.6em 0}
+th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left;vertical-align:top}
+td.num{text-align:right;font-variant-numeric:tabular-nums}th{background:#f2f2f2}
+.meta{color:#555}.pass{color:#11702b;font-weight:600}.fail{color:#b00020;font-weight:600}
+"""
+
 #: Print rules: A4, no table, figure or banner split over pages, no heading left alone
 #: at the foot of a page; long tables (class ``long``) may break between rows and repeat
 #: their header.
