@@ -137,14 +137,24 @@ def test_anderson_darling_against_scipy() -> None:
             ref = stats.anderson(x, dist="norm")
         got = anderson_darling(x)
         assert got.statistic == pytest.approx(float(ref.statistic), rel=1e-10)
-        # at scipy's 1 %, 5 % and 15 % critical values (Stephens' tables, adjusted for n
-        # another way) the p-value is that level: the two small-n corrections and the
-        # fitted p-value formula differ by a few per cent of the level
-        for level, crit in zip((15, 10, 5, 2.5, 1), ref.critical_values, strict=True):
-            if level in (15, 5, 1):
-                assert ad_p_value(float(crit), x.size) == pytest.approx(level / 100, rel=0.1)
     rejected = anderson_darling(rng.exponential(size=60))
     assert not rejected.normal and rejected.p_value < 0.01
+
+
+def test_anderson_darling_p_value_against_the_simulated_null() -> None:
+    """The p-value is the tail probability of A² under normality (n = 30, simulated).
+
+    20,000 normal samples of 30 give the null distribution of A² (mean and σ estimated);
+    at A² of 0.4 to 1.0 the empirical tail (p from 0.37 down to 0.01) and the
+    D'Agostino-Stephens p-value agree within 10 % (the fitted formula is good to a few
+    per cent; the simulation's standard error is below 7 % at p = 0.01). Independent of
+    scipy's version, whose critical values changed between 1.10 and 1.17.
+    """
+    rng = np.random.default_rng(5)
+    null = np.array([anderson_darling(rng.normal(size=30)).statistic for _ in range(20_000)])
+    for a2 in (0.4, 0.6, 0.8, 1.0):
+        empirical = float(np.mean(null >= a2))
+        assert ad_p_value(a2, 30) == pytest.approx(empirical, rel=0.1), (a2, empirical)
 
 
 def test_percentile_indices_when_normality_fails() -> None:
