@@ -21,14 +21,22 @@ from typing import Any
 
 import click
 
-__all__ = ["MARKER", "command_paths", "commands_markdown"]
+__all__ = ["MARKER", "command_paths", "commands_markdown", "metavar", "root_command", "walk"]
 
 #: The line of docs/commands.md that the hook replaces with the generated reference.
 MARKER = "<!-- commands:reference -->"
 
 
-def _walk(cmd: click.Command, ctx: click.Context) -> Iterator[tuple[click.Command, click.Context]]:
-    """Yield every visible command below ``cmd`` (depth first, sorted) with its context."""
+def walk(cmd: click.Command, ctx: click.Context) -> Iterator[tuple[click.Command, click.Context]]:
+    """Yield every visible command below ``cmd`` (depth first, sorted) with its context.
+
+    Parameters
+    ----------
+    cmd : click.Command
+        A group (a plain command has nothing below it).
+    ctx : click.Context
+        Its context.
+    """
     if not isinstance(cmd, click.Group):
         return
     for name in cmd.list_commands(ctx):
@@ -37,10 +45,11 @@ def _walk(cmd: click.Command, ctx: click.Context) -> Iterator[tuple[click.Comman
             continue
         sub_ctx = click.Context(sub, info_name=name, parent=ctx)
         yield sub, sub_ctx
-        yield from _walk(sub, sub_ctx)
+        yield from walk(sub, sub_ctx)
 
 
-def _root() -> tuple[click.Command, click.Context]:
+def root_command() -> tuple[click.Command, click.Context]:
+    """Return the ``camtol`` group and its context (the top of the command tree)."""
     from camtol.cli.app import cli
 
     return cli, click.Context(cli, info_name="camtol")
@@ -54,8 +63,8 @@ def command_paths() -> list[str]:
     list of str
         Command paths, in the order of the page.
     """
-    root, ctx = _root()
-    return [c.command_path for _, c in _walk(root, ctx)]
+    root, ctx = root_command()
+    return [c.command_path for _, c in walk(root, ctx)]
 
 
 def _escape(text: str) -> str:
@@ -85,7 +94,16 @@ def _description(help_text: str | None) -> list[str]:
     return lines
 
 
-def _metavar(param: click.Parameter, ctx: click.Context) -> str:
+def metavar(param: click.Parameter, ctx: click.Context) -> str:
+    """Return an option's metavar as ``--help`` shows it (click 8.1 and 8.2 alike).
+
+    Parameters
+    ----------
+    param : click.Parameter
+        The option.
+    ctx : click.Context
+        Its command's context.
+    """
     make: Any = param.make_metavar  # its signature changed in click 8.2
     try:
         return str(make(ctx))
@@ -103,7 +121,7 @@ def _type(param: click.Option, ctx: click.Context) -> str:
         lo, hi = kind.min, kind.max
         bounds = [f"≥ {lo}" if lo is not None else "", f"≤ {hi}" if hi is not None else ""]
         return f"{kind.name} ({', '.join(b for b in bounds if b)})"
-    return _escape(_metavar(param, ctx).strip("[]."))
+    return _escape(metavar(param, ctx).strip("[]."))
 
 
 def _unset(value: object) -> bool:
@@ -159,7 +177,7 @@ def _section(cmd: click.Command, ctx: click.Context) -> list[str]:
     lines += [f"**Usage:** `{ctx.command_path} {usage}`", ""]
     if isinstance(cmd, click.Group):
         lines += ["**Subcommands**", ""]
-        for sub, sub_ctx in _walk(cmd, ctx):
+        for sub, sub_ctx in walk(cmd, ctx):
             if sub_ctx.parent is ctx:
                 anchor = sub_ctx.command_path.replace(" ", "-")
                 short = _escape(sub.get_short_help_str(limit=120))
@@ -180,8 +198,8 @@ def commands_markdown() -> str:
     str
         Markdown for docs/commands.md.
     """
-    root, ctx = _root()
-    commands = list(_walk(root, ctx))
+    root, ctx = root_command()
+    commands = list(walk(root, ctx))
     lines = ["| Command | What it does |", "|---|---|"]
     for cmd, sub_ctx in commands:
         anchor = sub_ctx.command_path.replace(" ", "-")

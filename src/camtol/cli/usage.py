@@ -10,23 +10,16 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import click
+
+from camtol.cli.reference import metavar, root_command, walk
 
 __all__ = ["BEGIN", "END", "usage_block", "write_readme"]
 
 BEGIN = "<!-- usage:begin -->"
 END = "<!-- usage:end -->"
 _WIDTH = 92
-
-
-def _metavar(param: click.Parameter, ctx: click.Context) -> str:
-    make: Any = param.make_metavar  # its signature changed in click 8.2
-    try:
-        return str(make(ctx))
-    except TypeError:  # pragma: no cover - click 8.1 takes no context
-        return str(make())
 
 
 def _piece(param: click.Parameter, ctx: click.Context) -> str | None:
@@ -38,20 +31,11 @@ def _piece(param: click.Parameter, ctx: click.Context) -> str | None:
     name = names[0]
     if name in ("--help", "-h") or name == "--example":
         return None
-    text = name if param.is_flag else f"{name} {_metavar(param, ctx)}"
+    text = name if param.is_flag else f"{name} {metavar(param, ctx)}"
     return text if param.required else f"[{text}]"
 
 
 def _command_lines(path: str, cmd: click.Command, ctx: click.Context) -> list[str]:
-    if isinstance(cmd, click.Group):
-        lines = []
-        if cmd.invoke_without_command:
-            lines.append(f"{path}")
-        for name in cmd.list_commands(ctx):
-            sub = cmd.get_command(ctx, name)
-            if sub is not None:
-                lines += _command_lines(f"{path} {name}", sub, ctx)
-        return lines
     head = [path]
     args = [p for p in cmd.params if isinstance(p, click.Argument)]
     names = {o for p in cmd.params for o in getattr(p, "opts", ())}
@@ -80,14 +64,12 @@ def usage_block() -> str:
     str
         Plain text, one line (or a few wrapped lines) per command and subcommand.
     """
-    from camtol.cli.app import cli
-
-    ctx = click.Context(cli, info_name="camtol")
     lines: list[str] = []
-    for name in cli.list_commands(ctx):
-        cmd = cli.get_command(ctx, name)
-        if cmd is not None:
-            lines += _command_lines(f"camtol {name}", cmd, ctx)
+    for cmd, ctx in walk(*root_command()):
+        if not isinstance(cmd, click.Group):
+            lines += _command_lines(ctx.command_path, cmd, ctx)
+        elif cmd.invoke_without_command:  # the group runs alone too (``camtol examples``)
+            lines.append(ctx.command_path)
     return "\n".join(lines) + "\n"
 
 
