@@ -468,6 +468,20 @@ def inspection_text(data: dict[str, Any]) -> list[str]:
     return [out for line in logical for out in wrap_line(line)]
 
 
+def _text_html(data: dict[str, Any]) -> tuple[str, str]:
+    """Return the inspection's text lines and warnings as HTML list items and paragraphs."""
+    rows = "".join(f"<li>{html.escape(line)}</li>" for line in inspection_text(data))
+    warn = "".join(f"<p class='warn'>⚠ {html.escape(w)}</p>" for w in data["warnings"])
+    return rows, warn
+
+
+def _rows_html(cells: list[tuple[str, Any]]) -> str:
+    """Return label/value table rows, leaving out the cells without a value."""
+    return "".join(
+        f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in cells if v
+    )
+
+
 def inspection_report_html(data: dict[str, Any], figure_svg: str | None) -> str:
     """Return a self-contained HTML page of the inspection: part, verdict, zone, figure.
 
@@ -482,8 +496,7 @@ def inspection_report_html(data: dict[str, Any], figure_svg: str | None) -> str:
     figure_svg : str or None
         Inline SVG of the inspection figure.
     """
-    rows = "".join(f"<li>{html.escape(line)}</li>" for line in inspection_text(data))
-    warn = "".join(f"<p class='warn'>⚠ {html.escape(w)}</p>" for w in data["warnings"])
+    rows, warn = _text_html(data)
     title = html.escape(f"CMM inspection of cam {data['cam']} of {data['design']}")
     trace = data.get("traceability") or {}
     cells = [(label, trace[key]) for key, label in _TRACE_KEYS if trace.get(key)]
@@ -492,9 +505,7 @@ def inspection_report_html(data: dict[str, Any], figure_svg: str | None) -> str:
         ("design hash", trace.get("design_hash")),
         ("scan SHA-256", trace.get("scan_sha256")),
     ]
-    table = "".join(
-        f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in cells if v
-    )
+    table = _rows_html(cells)
     verdict = str(data["verdict"])
     return (
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
@@ -520,8 +531,7 @@ def cmm_section_html(data: dict[str, Any], figure_svg: str | None) -> str:
     figure_svg : str or None
         Inline SVG of the inspection figure.
     """
-    rows = "".join(f"<li>{html.escape(line)}</li>" for line in inspection_text(data))
-    warn = "".join(f"<p class='warn'>⚠ {html.escape(w)}</p>" for w in data["warnings"])
+    rows, warn = _text_html(data)
     trace = data.get("traceability") or {}
     ids = [
         ("scan", data["scan"]),
@@ -529,9 +539,7 @@ def cmm_section_html(data: dict[str, Any], figure_svg: str | None) -> str:
         ("design hash", trace.get("design_hash")),
         ("camtol version", trace.get("camtol_version")),
     ]
-    table = "".join(
-        f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in ids if v
-    )
+    table = _rows_html(ids)
     return (
         f"<section id='cmm'><h2>CMM inspection of cam {html.escape(str(data['cam']))}</h2>"
         f"<table>{table}</table><ul>{rows}</ul>{warn}"
