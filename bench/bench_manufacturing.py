@@ -108,9 +108,14 @@ def main() -> int:
     ok &= t_prec <= 0.05
     # --- G-code ---------------------------------------------------------------------------
     cw = load_example("cw06-translating")
-    t_arcs, arcs = best_of(lambda: write_gcode(cw, tool_radius_mm=5.0, tolerance_mm=1e-3), 3)
+    t_arcs, arcs = best_of(
+        lambda: write_gcode(cw, feed_mm_min=200.0, tool_radius_mm=5.0, tolerance_mm=1e-3), 3
+    )
     t_lines, lines = best_of(
-        lambda: write_gcode(cw, tool_radius_mm=5.0, tolerance_mm=1e-3, mode="lines"), 3
+        lambda: write_gcode(
+            cw, feed_mm_min=200.0, tool_radius_mm=5.0, tolerance_mm=1e-3, mode="lines"
+        ),
+        3,
     )
     print("G-code: cw06-translating, cutter R = 5 mm, tolerance 1 µm")
     print(
