@@ -53,9 +53,6 @@ def combined_error(errors: Sequence[ProfileError]) -> ProfileError | None:
     return None if not errors else errors[0] if len(errors) == 1 else _Sum(tuple(errors))
 
 
-_one = combined_error
-
-
 def follow_as_made(
     as_made: AsMade,
     nominal: Mechanism,
@@ -102,10 +99,12 @@ def follow_as_made(
     radial += radial_errors
     normal += normal_errors
     if nominal_shape is None:
-        shape = AnalyticShape(nominal, program, _one(radial), _one(normal))
+        shape = AnalyticShape(nominal, program, combined_error(radial), combined_error(normal))
     else:
         if nominal_shape.mechanism is not nominal or nominal_shape.program is not program:
             raise DesignError("nominal_shape must be the error-free profile of nominal, program")
-        shape = nominal_shape.with_errors(radial_error=_one(radial), normal_error=_one(normal))
+        shape = nominal_shape.with_errors(
+            radial_error=combined_error(radial), normal_error=combined_error(normal)
+        )
     theta = np.asarray(theta_rad, dtype=float) - as_made.phase_rad
     return follow(shape, as_made.mechanism, theta, reference=nominal, left_limit=left_limit)
