@@ -71,14 +71,17 @@ def _bisect(f, lo: float, hi: float, target: float) -> float:
 
 
 # Rows: every source, unequal weights with a negative one, a single source (the lattice
-# must reproduce a uniform exactly), and an angle where nothing varies.
-SENS = np.array([[1.0, 1.0, 1.0], [0.3, -2.0, 0.7], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+# must reproduce a uniform exactly), an angle where nothing varies, and two sources (an
+# even number: the symmetric path inverts by a DCT-I there, a DCT-III for an odd one).
+SENS = np.array(
+    [[1.0, 1.0, 1.0], [0.3, -2.0, 0.7], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1.0, -1.5]]
+)
 DISTS = (_uniform(-1.0, 1.0), _uniform(-0.5, 0.5), _uniform(-2.0, 2.0))
 
 
 def test_sum_of_uniforms_matches_the_piecewise_polynomial_closed_form() -> None:
     plan = _plan(DISTS)
-    limits = (np.full(4, -2.0), np.full(4, 1.5))
+    limits = (np.full(5, -2.0), np.full(5, 1.5))
     r = angle_distributions(SENS, plan, probs=PROBS, limits=limits)
     for i, g in enumerate(SENS):
         lows = [min(gj * d.lower, gj * d.upper) for gj, d in zip(g, DISTS, strict=True) if gj]
@@ -119,6 +122,44 @@ def test_lattice_is_a_distribution_with_the_closed_form_mean_and_sigma() -> None
     assert np.all(np.abs(sd - want.std) <= 3 * h / 2)
     # Each rounding error is nearly uniform on ±h/2: σ² grows by about 3 h²/12.
     np.testing.assert_allclose(sd**2, want.std**2 + 3 * h * h / 12, rtol=2e-5)
+
+
+def test_symmetric_and_general_paths_agree() -> None:
+    # Symmetric sources (centred truncated normals, uniforms, a harmonic's arcsine) take
+    # the cosine-transform path; the general rFFT path must give the same distribution:
+    # their quantiles differ by at most the sum of their bounds, and in practice by the
+    # same 1e-4 σ as against the closed forms.
+    from camtol.tolerancing import convolution as cv
+
+    dists = (
+        SourceDistribution("normal").resolve(0.01),
+        _uniform(-0.02, 0.02),
+        SourceDistribution("normal", cp=1.0).resolve(0.005),
+        _uniform(0.1, 0.3),  # symmetric about its middle, not about 0
+    )
+    theta = np.linspace(0.0, 2 * np.pi, 300)
+    sens = np.stack([np.cos(theta), 0.5 * np.sin(2 * theta), np.ones_like(theta), theta - 3])
+    sens = sens.T.copy()
+    sens[::7, 1] = 0.0  # rows with an odd and with an even number of active sources
+    plan = _plan(dists)
+    comps, offset = cv.components(sens, plan)
+    assert all(c.symmetric for c in comps)
+    rows = slice(0, sens.shape[0])
+    sym = cv._symmetric_block_lattice(comps, offset, rows, cv.POINTS)
+    gen = cv._general_block_lattice(comps, offset, rows, cv.POINTS)
+    np.testing.assert_array_equal(sym[3], gen[3])  # the same active counts
+    assert set(sym[3] % 2) == {0.0, 1.0}  # both inversions (DCT-I and DCT-III) are used
+    std = angle_distributions(sens, plan).std
+    for p in PROBS:
+        qs, qg = cv._quantile(*_shifted(sym), p), cv._quantile(*_shifted(gen), p)
+        bounds = (sym[3] + 1) * sym[1] / 2 + (gen[3] + 1) * gen[1] / 2
+        assert np.all(np.abs(qs - qg) <= bounds)
+        assert np.all(np.abs(qs - qg) <= 1e-4 * std), float(np.max(np.abs(qs - qg) / std))
+
+
+def _shifted(block: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    lower, h, cdf, _ = block
+    return cdf + np.arange(cdf.shape[0])[:, None], lower, h
 
 
 def test_sigma_is_the_rss_of_sensitivities_times_source_sigmas() -> None:

@@ -20,6 +20,14 @@ convolved by FFT (length N = :data:`POINTS`, large enough that the sum never wra
 around), added up into a CDF, and read with linear interpolation inside a cell (the
 lattice sum plus a uniform variable of width h).
 
+When every component is symmetric about its middle (centred truncated normals, uniforms,
+symmetric triangles, the harmonics' arcsines and the merged normal: the usual case), each
+is rounded to cells placed symmetrically about its middle, its spectrum is real, and the
+convolution runs on cosine transforms of half the length (a DCT-II per component, a
+DCT-I or DCT-III to invert: :func:`_symmetric_block_lattice`), about three times faster
+than the general rFFT path with the same rounding bound; a test holds the two paths to
+each other's bounds.
+
 Tolerance
 ---------
 Rounding moves each component by at most h/2 and the interpolation by at most h/2, so the
@@ -77,6 +85,8 @@ class _Component:
     z_hi: float
     norm: float
     scale: FloatArray
+    #: The density is symmetric about the middle of [z_lo, z_hi].
+    symmetric: bool = False
 
 
 def _ndtr(z: FloatArray) -> FloatArray:
@@ -111,12 +121,13 @@ def _source_component(d: ResolvedDistribution, g: FloatArray) -> tuple[_Componen
         s = d.sigma
         a, b = (d.lower - d.centre) / s, (d.upper - d.centre) / s
         norm = float(_ndtr(np.array([b]))[0] - _ndtr(np.array([a]))[0])
-        return _Component(_ndtr, a, b, norm, g * s), g * d.centre
+        return _Component(_ndtr, a, b, norm, g * s, a == -b), g * d.centre
     width = d.upper - d.lower
     if d.kind == "uniform":
-        return _Component(_uniform, 0.0, 1.0, 1.0, g * width), g * d.lower
+        return _Component(_uniform, 0.0, 1.0, 1.0, g * width, True), g * d.lower
     mode = min(max((d.centre - d.lower) / width, 0.0), 1.0)
-    return _Component(_triangular(mode), 0.0, 1.0, 1.0, g * width), g * d.lower
+    comp = _Component(_triangular(mode), 0.0, 1.0, 1.0, g * width, mode == 0.5)
+    return comp, g * d.lower
 
 
 def abs_quantile(d: ResolvedDistribution, prob: float) -> float:
@@ -201,11 +212,11 @@ def components(sens: FloatArray, plan: SamplingPlan) -> tuple[list[_Component], 
             amp = p.coefficient_bounds_mm()
             for i in range(k):
                 scale = amp[i] * np.hypot(gc[:, i], gs[:, i])
-                comps.append(_Component(_arcsine, -1.0, 1.0, np.pi, scale))
+                comps.append(_Component(_arcsine, -1.0, 1.0, np.pi, scale, True))
     if np.any(normal_var > 0):
         sd = np.sqrt(normal_var)
         norm = float(_ndtr(np.array([Z_TAIL]))[0] - _ndtr(np.array([-Z_TAIL]))[0])
-        comps.append(_Component(_ndtr, -Z_TAIL, Z_TAIL, norm, sd))
+        comps.append(_Component(_ndtr, -Z_TAIL, Z_TAIL, norm, sd, True))
     offset += normal_mean
     return comps, offset
 
@@ -247,6 +258,99 @@ def _block_lattice(
     comps: list[_Component], offset: FloatArray, rows: slice, points: int
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Lattice start, step, CDF at the cell ends and active components of a block.
+
+    Symmetric components only (the usual case: centred tolerances, processes) take the
+    cosine-transform path, about three times faster; any other takes the general one.
+    """
+    if points % 2 == 0 and all(c.symmetric for c in comps):
+        return _symmetric_block_lattice(comps, offset, rows, points)
+    return _general_block_lattice(comps, offset, rows, points)
+
+
+def _symmetric_block_lattice(
+    comps: list[_Component], offset: FloatArray, rows: slice, points: int
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`_block_lattice` for components that are all symmetric about their middles.
+
+    Each active component (scale ≠ 0) is rounded to 2m cells of width h placed
+    symmetrically about its middle c (cell centres c + (i + ½) h, i = −m … m − 1,
+    m = ⌈half-range / h⌉), each cell's mass taken from the exact CDF as in the general
+    path; a component of scale 0 on a row is its point mass at c. A symmetric lattice
+    distribution has a real spectrum, R(ω) = 2 Σ_{i≥0} y_i cos(ω (i + ½)) with y_i the
+    masses right of c, which at ω_k = π k / L (L = N / 2) is the DCT-II of y: N/2 points
+    instead of an rFFT of N, and the halves left of c are never evaluated. The product
+    of the spectra is inverted by a DCT-III when the number of active components is odd
+    (the sum's lattice is then at half-integer steps from the sum of the middles) and by
+    a DCT-I when it is even; both are exact inversions of the length-N DFT, whose
+    periodicity the sum never wraps around: it spans Σ 2m − n + 1 ≤ W / h + n + 1 ≤ N
+    points with h = W / (N − n − 1).
+    """
+    import scipy.fft as sf
+
+    half_n = points // 2
+    off = offset[rows]
+    nr = off.size
+    scales = [np.abs(c.scale[rows]) for c in comps]
+    widths = [s * (c.z_hi - c.z_lo) for c, s in zip(comps, scales, strict=True)]
+    total = np.sum(widths, axis=0) if widths else np.zeros(nr)
+    flat = total <= 0
+    h = np.where(flat, 1.0, total / (points - len(comps) - 1))
+    middle = off.copy()
+    spectrum = np.ones((nr, half_n))
+    active = np.zeros(nr)
+    buf = np.zeros((nr, half_n))
+    dirty = 0
+    for c, s, w in zip(comps, scales, widths, strict=True):
+        z_mid = 0.5 * (c.z_lo + c.z_hi)
+        middle += c.scale[rows] * z_mid
+        zero = s == 0
+        active += ~zero
+        m = np.ceil(0.5 * w / h)
+        cols = int(min(half_n, np.max(m)))
+        if cols == 0:
+            continue  # a point mass on every row of the block
+        safe = np.where(zero, 1.0, s)
+        # Cell ends z_mid + i h / |s|, i = 0 … cols, in the component's own variable Z.
+        z = np.multiply.outer(h / safe, np.arange(cols + 1, dtype=float))
+        z += z_mid
+        np.minimum(z, c.z_hi, out=z)
+        g = c.cdf(z)
+        y = buf[:, :cols]
+        np.subtract(g[:, 1:], g[:, :-1], out=y)
+        y *= 1.0 / c.norm
+        if dirty > cols:
+            buf[:, cols:dirty] = 0.0
+        dirty = cols
+        r = sf.dct(buf, type=2, axis=1)
+        r[zero] = 1.0  # a point mass at the middle: spectrum 1
+        spectrum *= r
+    pmf = np.empty((nr, points))
+    odd = active % 2 == 1
+    if np.any(odd):  # lattice at middle + (k − L + ½) h, k = 0 … N − 1
+        q = sf.dct(spectrum[odd], type=3, axis=1) / points
+        pmf[odd, half_n:] = q
+        pmf[odd, :half_n] = q[:, ::-1]
+    even = ~odd
+    if np.any(even):  # lattice at middle + (k − L + 1) h; Nyquist term 0 unless no source
+        ext = np.empty((int(np.sum(even)), half_n + 1))
+        ext[:, :half_n] = spectrum[even]
+        ext[:, half_n] = active[even] == 0
+        q = sf.dct(ext, type=1, axis=1) / points
+        pmf[even, half_n - 1 :] = q
+        pmf[even, : half_n - 1] = q[:, half_n - 1 : 0 : -1]
+    # No source varies (as in the general path): the point mass at index 0.
+    pmf[flat] = 0.0
+    pmf[flat, 0] = 1.0
+    lower = middle - np.where(flat, 0.0, np.where(odd, half_n - 0.5, half_n - 1.0)) * h
+    cdf = np.cumsum(pmf, axis=1)
+    cdf /= cdf[:, -1:]
+    return lower, h, cdf, active
+
+
+def _general_block_lattice(
+    comps: list[_Component], offset: FloatArray, rows: slice, points: int
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`_block_lattice` for components of any shape (an rFFT per component).
 
     Each component's lattice points lie symmetrically about the middle of its range
     (2m + 1 points, m = ⌈half-range / h⌉), so a symmetric component rounds to a
