@@ -122,6 +122,22 @@ def test_round_trip_store_read_gives_identical_records(
     assert back.form_um == float(back.dr_um.max()) - float(back.dr_um.min())
 
 
+def test_records_read_from_the_store_are_whole_frozen_records(store_url: str) -> None:
+    # The readers build records with InspectionRecord.from_store (no per-field setattr):
+    # every field is there, the record stays frozen, and a missing field is refused.
+    with open_store(store_url) as s:
+        s.add(_record(np.linspace(-3.0, 4.0, 36)))
+        (back,) = s.records(with_curves=True, with_details=True)
+    assert {f.name for f in dataclasses.fields(back)} <= set(vars(back))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        back.verdict = "pass"  # type: ignore[misc]
+    assert not back.dr_um.flags.writeable  # the stored curve cannot be changed in place
+    fields = dict(vars(back))
+    del fields["lot"]
+    with pytest.raises(TypeError, match="from_store needs exactly the fields"):
+        type(back).from_store(**fields)
+
+
 def test_record_inspection_keeps_the_design_and_filters(store_url: str) -> None:
     design = load_example(DESIGN)
     text = example_text(DESIGN)

@@ -62,14 +62,17 @@ class LotStatistics:
         Each part's maximum and minimum deviation over θ, in the order given. [µm]
     tolerance_um : tuple of float
         Radial tolerance (lower LSL, upper USL). [µm]
-    cp : float
+    pp : float
         (USL − LSL) / (6 s_max), s_max the sample σ of ``part_max_um`` (NaN if undefined).
-    cpk_upper : float
+        Performance indices (overall σ, ISO 22514-2), not Cp/Cpk: the within-σ indices,
+        their intervals and the control chart are :mod:`camtol.spc`'s
+        (:func:`camtol.records.lot_summary.summarise_lot`).
+    ppu : float
         (USL − mean(part_max)) / (3 s_max): the upper side, decided by the largest deviation.
-    cpk_lower : float
+    ppl : float
         (mean(part_min) − LSL) / (3 s_min): the lower side, decided by the smallest deviation.
-    cpk : float
-        min(cpk_upper, cpk_lower).
+    ppk : float
+        min(ppu, ppl).
     n_failing : int
         Parts whose verdict is a failure.
     fraction_failing : float
@@ -96,10 +99,10 @@ class LotStatistics:
     part_max_um: FloatArray
     part_min_um: FloatArray
     tolerance_um: tuple[float, float]
-    cp: float
-    cpk_upper: float
-    cpk_lower: float
-    cpk: float
+    pp: float
+    ppu: float
+    ppl: float
+    ppk: float
     n_failing: int
     fraction_failing: float
     fraction_failing_ci: tuple[float, float]
@@ -305,10 +308,7 @@ def lot_statistics(
     n = max(np.asarray(c).size for c in curves_um)
     if n < 1:
         raise RecordError("lot statistics need curves with at least one point")
-    table = np.empty((n_parts, n))  # filled row by row: no list of float64 copies to stack
-    for i, c in enumerate(curves_um):
-        c = np.asarray(c)
-        table[i] = c if c.size == n else resample_periodic(c.astype(np.float64), n)
+    part_max, part_min, max_um, min_um, mean, std = _pooled_curves(curves_um, n)
     seq = (
         np.arange(n_parts, dtype=np.float64)
         if sequence is None
@@ -317,35 +317,28 @@ def lot_statistics(
     if seq.shape != (n_parts,):
         raise RecordError(f"sequence has {seq.size} entries for {n_parts} parts")
 
-    part_max = table.max(axis=1)
-    part_min = table.min(axis=1)
     s_max, s_min = _sample_std(part_max), _sample_std(part_min)
-    cp = _ratio(hi - lo, 6.0 * s_max)
-    cpk_upper = _ratio(hi - float(part_max.mean()), 3.0 * s_max)
-    cpk_lower = _ratio(float(part_min.mean()) - lo, 3.0 * s_min)
-    cpk = (
-        min(cpk_upper, cpk_lower)
-        if not (math.isnan(cpk_upper) or math.isnan(cpk_lower))
-        else math.nan
-    )
+    pp = _ratio(hi - lo, 6.0 * s_max)
+    ppu = _ratio(hi - float(part_max.mean()), 3.0 * s_max)
+    ppl = _ratio(float(part_min.mean()) - lo, 3.0 * s_min)
+    ppk = min(ppu, ppl) if not (math.isnan(ppu) or math.isnan(ppl)) else math.nan
 
     k = int(np.count_nonzero(np.asarray(failed, dtype=bool)))
     slope, stderr = _trend(seq, part_max)
-    mean = table.mean(axis=0)
     return LotStatistics(
         n_parts=n_parts,
         theta_deg=np.asarray(np.arange(n) * (360.0 / n), dtype=np.float64),
         mean_um=mean,
-        std_um=_std_by_angle(table, mean),
-        max_um=table.max(axis=0),
-        min_um=table.min(axis=0),
+        std_um=std,
+        max_um=max_um,
+        min_um=min_um,
         part_max_um=part_max,
         part_min_um=part_min,
         tolerance_um=(lo, hi),
-        cp=cp,
-        cpk_upper=cpk_upper,
-        cpk_lower=cpk_lower,
-        cpk=cpk,
+        pp=pp,
+        ppu=ppu,
+        ppl=ppl,
+        ppk=ppk,
         n_failing=k,
         fraction_failing=k / n_parts,
         fraction_failing_ci=_clopper_pearson(k, n_parts, confidence),
@@ -356,19 +349,40 @@ def lot_statistics(
     )
 
 
-def _std_by_angle(table: FloatArray, mean: FloatArray, block: int = 512) -> FloatArray:
-    """Per-angle sample σ (ddof 1), two-pass over blocks of parts (no table-sized temporary).
+def _pooled_curves(
+    curves_um: Sequence[npt.NDArray[np.floating[Any]]], n: int, block: int = 32
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Each part's max and min, and each angle's max, min, mean and sample σ (ddof 1).
 
-    Same figures as ``table.std(axis=0, ddof=1)``; NaN for one part.
+    One pass over the parts in blocks small enough to stay in cache (no parts × angles
+    table: 10,000 curves of 3,600 points would be 288 MB to allocate and read six times),
+    each block's mean and sum of squares merged into the running ones by Chan, Golub and
+    LeVeque's pairwise update, as stable as the two-pass formula. σ is NaN for one part.
+    [µm]
     """
-    n_parts = table.shape[0]
-    if n_parts < 2:
-        return np.full(table.shape[1], math.nan)
-    ss = np.zeros(table.shape[1])
+    n_parts = len(curves_um)
+    buf = np.empty((min(block, n_parts), n))
+    part_max, part_min = np.empty(n_parts), np.empty(n_parts)
+    max_um, min_um = np.full(n, -np.inf), np.full(n, np.inf)
+    mean, m2 = np.zeros(n), np.zeros(n)
     for k in range(0, n_parts, block):
-        d = table[k : k + block] - mean
-        ss += np.einsum("ij,ij->j", d, d)
-    return np.asarray(np.sqrt(ss / (n_parts - 1)))
+        chunk = curves_um[k : k + block]
+        b = buf[: len(chunk)]
+        for i, c in enumerate(chunk):
+            c = np.asarray(c)
+            b[i] = c if c.size == n else resample_periodic(c.astype(np.float64), n)
+        b.max(axis=1, out=part_max[k : k + b.shape[0]])
+        b.min(axis=1, out=part_min[k : k + b.shape[0]])
+        np.maximum(max_um, b.max(axis=0), out=max_um)
+        np.minimum(min_um, b.min(axis=0), out=min_um)
+        b_mean = b.mean(axis=0)
+        d = b - b_mean
+        delta = b_mean - mean
+        seen, total = k, k + b.shape[0]
+        mean += delta * (b.shape[0] / total)
+        m2 += np.einsum("ij,ij->j", d, d) + delta * delta * (seen * b.shape[0] / total)
+    std = np.sqrt(m2 / (n_parts - 1)) if n_parts > 1 else np.full(n, math.nan)
+    return part_max, part_min, max_um, min_um, mean, np.asarray(std)
 
 
 def _trend(x: FloatArray, y: FloatArray) -> tuple[float, float]:

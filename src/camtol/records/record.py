@@ -19,7 +19,7 @@ import json
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from datetime import datetime, timezone
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -168,6 +168,21 @@ class InspectionRecord:
     void_reason: str = ""
     max_abs_ds_deg: float | None = None
 
+    @classmethod
+    def from_store(cls, **fields: Any) -> InspectionRecord:
+        """Build a record from a store row's fields, every field given and already typed.
+
+        The store's readers build thousands at a time (a lot page reads 10,000), and a
+        frozen dataclass's ``__init__`` sets each of its 32 fields through
+        ``object.__setattr__``: this fills the instance's ``__dict__`` at once, about ten
+        times faster. Anything else constructs records normally.
+        """
+        if fields.keys() != _FIELD_NAMES:
+            raise TypeError(f"from_store needs exactly the fields {sorted(_FIELD_NAMES)}")
+        record = object.__new__(cls)
+        record.__dict__.update(fields)
+        return record
+
     @property
     def voided(self) -> bool:
         """Whether the record has been voided."""
@@ -211,6 +226,10 @@ class InspectionRecord:
             "voided_by": self.voided_by,
             "void_reason": self.void_reason,
         }
+
+
+#: Every field of a record (what :meth:`InspectionRecord.from_store` must be given).
+_FIELD_NAMES = frozenset(f.name for f in fields(InspectionRecord))
 
 
 def design_identity(design: CamDesign, source_text: str | None = None) -> tuple[str, str]:
