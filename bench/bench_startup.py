@@ -15,6 +15,12 @@ runs once first, unmeasured, with the bytecode cache in a temporary directory
 (``PYTHONPYCACHEPREFIX``, and ``PYTHONDONTWRITEBYTECODE`` cleared), so that camtol is
 measured as installed (pip compiles it) and not recompiled from source on every run, and
 the baselines alike.
+
+Beside the targets, the run measures the floors the libraries set: a bare interpreter
+importing what ``analyze`` cannot do without (numpy, pydantic, click, rich's console and
+table), the same plus camtol's design-file models (the pydantic classes every design file
+is validated with), and what ``report`` adds (matplotlib.pyplot with the same libraries).
+Their ratios say how much of each target is spent before camtol's own work starts.
 """
 
 from __future__ import annotations
@@ -33,6 +39,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 from common import Figure, print_figures  # noqa: E402
 
 CAMTOL = [sys.executable, "-m", "camtol"]
+#: What ``camtol analyze`` imports from other projects and cannot do without.
+ANALYZE_LIBRARIES = "numpy, pydantic, click, rich.console, rich.table"
 
 
 def _run(cmd: list[str], env: dict[str, str]) -> tuple[float, float]:
@@ -58,6 +66,17 @@ def measure(rounds: int = 7) -> dict[str, tuple[float, float]]:
             "analyze": [*CAMTOL, "analyze", "--example", "cw06-translating"],
             "pyplot": [sys.executable, "-c", "import matplotlib.pyplot"],
             "report": [*CAMTOL, "report", "--example", "cw06-translating", "-o", report],
+            "libraries": [sys.executable, "-c", f"import {ANALYZE_LIBRARIES}"],
+            "models": [
+                sys.executable,
+                "-c",
+                f"import {ANALYZE_LIBRARIES}; import camtol.config.design_file",
+            ],
+            "report libraries": [
+                sys.executable,
+                "-c",
+                f"import {ANALYZE_LIBRARIES}, matplotlib.pyplot",
+            ],
         }
         for cmd in commands.values():  # warm-up: fill the bytecode cache
             _run(cmd, env)
@@ -93,6 +112,15 @@ def main(rounds: int = 7) -> list[Figure]:
         ),
     ]
     print_figures("start-up (bench_startup.py)", figures)
+    numpy, pyplot = best["numpy"][0], best["pyplot"][0]
+    print("library floors (wall time against the same baselines):")
+    for name, what, base, base_name in (
+        ("libraries", ANALYZE_LIBRARIES, numpy, "import numpy"),
+        ("models", "those + camtol.config.design_file", numpy, "import numpy"),
+        ("report libraries", "those + matplotlib.pyplot", pyplot, "import matplotlib.pyplot"),
+    ):
+        wall = best[name][0]
+        print(f"  import {what}: {wall:.3f} s, x{wall / base:.2f} {base_name}")
     return figures
 
 

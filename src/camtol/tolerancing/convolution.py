@@ -39,6 +39,10 @@ from tight: the rounding errors are nearly independent and centred, and the obse
 quantile errors are of order h²/σ, about 10⁻⁵ σ at the default N (tests against closed
 forms for sums of uniform sources and against 10⁷ samples, tests/tolerancing).
 
+Why one module: it is one computation, the lattice distribution of ΔS per angle: the
+components it is built from, its two convolution paths (which must agree, and a test holds
+them to each other) and the quantiles and probabilities read from the one CDF they give.
+
 Work is done in blocks of :data:`BLOCK` angles (each block's arrays stay in cache),
 vectorised over the angles of a block and over the lattice; each component is evaluated
 only over the lattice cells its range covers in that block.
