@@ -5,7 +5,8 @@ file made from one), with ``COLUMNS=80`` as a terminal of 80 columns sets it, an
 line of standard output and standard error, warnings included, is measured in characters
 (not bytes: "°", "µ", "Δ" are one column each). ``--help`` of every command is measured
 too. A command of the tree without an invocation here fails the test, so a new command
-cannot slip past.
+cannot slip past. Output written to a pipe or a file (as here) has no line ending in
+blanks either.
 
 Commands whose output another change is reworking are listed in
 :data:`OWNED_ELSEWHERE` with the issue that owns them: their width is still measured and
@@ -182,9 +183,15 @@ def test_output_fits_80_columns(
         assert out.getvalue() or err.getvalue() or "-q" in argv, argv
         wide += [f"{' '.join(args)}\n  [{len(w)}] {w}" for w in _wide(out.getvalue(), command)]
         wide += [f"{' '.join(args)} (stderr)\n  [{len(w)}] {w}" for w in _wide(err.getvalue())]
+        # Piped or redirected, no line ends in blanks (rich pads tables to their width).
+        wide += [f"{' '.join(args)}: trailing blanks in {w!r}" for w in _trailing(out.getvalue())]
     if wide and command in OWNED_ELSEWHERE:
         pytest.xfail(f"owned by {OWNED_ELSEWHERE[command]}: " + "\n".join(wide))
     assert not wide, "lines wider than 80 columns:\n" + "\n".join(wide)
+
+
+def _trailing(text: str) -> list[str]:
+    return [line for line in text.splitlines() if line != line.rstrip(" ")]
 
 
 def test_help_fits_80_columns(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -7,7 +7,6 @@ per cam) and by ``camtol conjugate`` (extremes, acceptance verdicts, failing int
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -382,10 +381,11 @@ def print_fixture(
         extremes of the estimates at Δf_mea ± u_f.
     """
     from rich import box
-    from rich.console import Console
     from rich.table import Table
 
-    con = console or Console(width=None if sys.stdout.isatty() else 80)
+    from camtol.report.tables import terminal_console
+
+    con = console or terminal_console()
     con.print(f"[bold]{name}[/bold]: conjugate-cam fixture analysis (camtol {__version__})")
     e = spec.errors
     params = Table(show_header=False, box=None, pad_edge=False)
