@@ -383,7 +383,7 @@ def print_fixture(
     from rich import box
     from rich.table import Table
 
-    from camtol.report.tables import terminal_console
+    from camtol.report.terminal import terminal_console
 
     con = console or terminal_console()
     con.print(f"[bold]{name}[/bold]: conjugate-cam fixture analysis (camtol {__version__})")
