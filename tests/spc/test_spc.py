@@ -247,3 +247,16 @@ def test_bad_rule_set_and_subgroup() -> None:
         run_rules([1.0], 0.0, 1.0, "x")
     with pytest.raises(RecordError, match="--subgroup=12: larger than the lot"):
         chart_limits(LOT, "xbar-r", 12)
+
+
+@pytest.mark.parametrize(
+    ("k", "n", "confidence"), [(0, 10, 0.95), (3, 12, 0.95), (30, 30, 0.9), (997, 1000, 0.99)]
+)
+def test_clopper_pearson_is_scipys_exact_interval(k: int, n: int, confidence: float) -> None:
+    # The one binomial interval of lots, lot yields and Monte Carlo yields.
+    from camtol.spc.binomial import clopper_pearson
+
+    ci = stats.binomtest(k, n).proportion_ci(confidence_level=confidence, method="exact")
+    assert clopper_pearson(k, n, confidence) == pytest.approx(
+        (ci.low, ci.high), rel=1e-9, abs=1e-15
+    )

@@ -29,6 +29,7 @@ import numpy as np
 from camtol.exceptions import RecordError
 from camtol.records.lots import LotStatistics, lot_statistics
 from camtol.records.record import InspectionRecord
+from camtol.spc.binomial import clopper_pearson
 from camtol.spc.capability import Capability, capability
 from camtol.spc.charts import ChartLimits, ControlChart, chart_limits, control_chart, within_sigma
 from camtol.spc.rules import run_rules
@@ -398,14 +399,6 @@ def reference_limits(
     )
 
 
-def _clopper_pearson95(k: int, n: int) -> tuple[float, float]:
-    from scipy.special import betaincinv  # beta.ppf(q, a, b), without scipy.stats
-
-    lo = 0.0 if k == 0 else float(betaincinv(k, n - k + 1, 0.025))
-    hi = 1.0 if k == n else float(betaincinv(k + 1, n - k, 0.975))
-    return lo, hi
-
-
 def summarise_lot(
     records: Sequence[InspectionRecord],
     *,
@@ -550,5 +543,5 @@ def summarise_lot(
         warnings=tuple(warnings),
     )
     return LotSummary(
-        design, lot, tuple(recs), st, basis, spc, _clopper_pearson95(n_pass, st.n_parts), per_angle
+        design, lot, tuple(recs), st, basis, spc, clopper_pearson(n_pass, st.n_parts), per_angle
     )

@@ -27,6 +27,7 @@ import numpy.typing as npt
 
 from camtol.exceptions import RecordError
 from camtol.jet import FloatArray
+from camtol.spc.binomial import clopper_pearson
 
 __all__ = [
     "MAX_GAP_STEPS",
@@ -250,16 +251,6 @@ def _ratio(num: float, den: float) -> float:
     return num / den if den > 0.0 and math.isfinite(den) else math.nan
 
 
-def _clopper_pearson(k: int, n: int, confidence: float) -> tuple[float, float]:
-    # beta.ppf(q, a, b) is betaincinv(a, b, q): scipy.special spares importing scipy.stats
-    from scipy.special import betaincinv
-
-    alpha = 1.0 - confidence
-    lo = 0.0 if k == 0 else float(betaincinv(k, n - k + 1, alpha / 2))
-    hi = 1.0 if k == n else float(betaincinv(k + 1, n - k, 1 - alpha / 2))
-    return lo, hi
-
-
 def lot_statistics(
     curves_um: Sequence[npt.NDArray[np.floating[Any]]],
     tolerance_um: tuple[float, float],
@@ -341,7 +332,7 @@ def lot_statistics(
         ppk=ppk,
         n_failing=k,
         fraction_failing=k / n_parts,
-        fraction_failing_ci=_clopper_pearson(k, n_parts, confidence),
+        fraction_failing_ci=clopper_pearson(k, n_parts, confidence),
         confidence=confidence,
         trend_um_per_part=slope,
         trend_stderr_um_per_part=stderr,

@@ -261,11 +261,9 @@ class YieldEstimate:
         YieldEstimate
             The yield and its interval.
         """
-        from scipy.special import betaincinv  # beta quantile, without scipy.stats
+        from camtol.spc.binomial import clopper_pearson
 
-        lo = 0.0 if passed == 0 else float(betaincinv(passed, samples - passed + 1, 0.025))
-        hi = 1.0 if passed == samples else float(betaincinv(passed + 1, samples - passed, 0.975))
-        return cls(passed / samples, (lo, hi), passed, samples, spec, band)
+        return cls(passed / samples, clopper_pearson(passed, samples), passed, samples, spec, band)
 
 
 @dataclass(frozen=True)
