@@ -189,7 +189,6 @@ FORBIDDEN_IN_CORE = {
     "ezdxf",
     "click",
     "rich",
-    "pydantic",
     "sqlalchemy",
     "alembic",
     "flask",

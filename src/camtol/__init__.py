@@ -6,7 +6,7 @@ The public API is small; everything else lives in its own module (see the README
     result = analyze(load_example("cw06-translating"))
 
 The names below are imported on first use (PEP 562 module ``__getattr__``), so that
-``import camtol`` and ``camtol --help`` do not pay for numpy, scipy or pydantic.
+``import camtol`` and ``camtol --help`` do not pay for numpy or scipy.
 """
 
 from __future__ import annotations

@@ -6,11 +6,14 @@ field, the value and what is allowed, so the command line can print it as one li
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
     "CamtolError",
     "ConfigError",
     "DesignError",
     "ExportError",
+    "FieldErrors",
     "GeometryError",
     "InputFileError",
     "OutputError",
@@ -31,6 +34,18 @@ class DesignError(CamtolError, ValueError):
 
 class ConfigError(DesignError):
     """A design file (TOML) is malformed or a field is missing or out of range."""
+
+
+class FieldErrors(ConfigError):
+    """Every problem found in the fields of one table (:mod:`camtol.config.fields`).
+
+    ``problems`` holds each problem (its field path, kind, value and what is allowed), so
+    that a caller can word them for its own table; the message lists them all.
+    """
+
+    def __init__(self, message: str, problems: tuple[Any, ...] = ()) -> None:
+        super().__init__(message)
+        self.problems = problems
 
 
 class InputFileError(CamtolError, ValueError):

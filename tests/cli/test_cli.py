@@ -77,7 +77,10 @@ r = "IT6"
     ("params", "message"),
     [
         ({"rb": 5, "law": "cycloidal", "rise": 40, "end": 360}, "not convex: radius of curvature"),
-        ({"rb": 40, "law": "wobble", "rise": 180, "end": 360}, "unknown motion law"),
+        (
+            {"rb": 40, "law": "wobble", "rise": 180, "end": 360},
+            "is not allowed; give a known motion law",
+        ),
         ({"rb": -4, "law": "cycloidal", "rise": 180, "end": 360}, "base_radius_mm=-4"),
         ({"rb": 40, "law": "cycloidal", "rise": 180, "end": 350}, "must cover exactly 360°"),
     ],

@@ -51,20 +51,21 @@ _DELETE = object()
         (
             "follower.base_radius_mm",
             -40.0,
-            r"follower.base_radius_mm=-40.0: Input should be greater than or equal to 0.001",
+            r"follower.base_radius_mm=-40.0 is not allowed; give a finite number ≥ 0.001"
+            r" and ≤ 100000 mm",
         ),
         ("follower.base_radius_mm", _DELETE, r"follower.base_radius_mm is missing"),
         ("follower.type", "knife", r"follower.type='knife' is unknown; allowed: flat_translating"),
         (
             "follower.face_angle_deg",
             90.0,
-            r"follower.face_angle_deg=90.0: Input should be less than 90",
+            r"follower.face_angle_deg=90.0 is not allowed; give a finite number > -90 and < 90 deg",
         ),
         ("follower.colour", "red", r"follower.colour is not a known field"),
         (
             "motion.segments.0.law",
             "spline",
-            r"motion.segments\[0\].law='spline': unknown motion law; allowed: cycloidal",
+            r"motion.segments\[0\].law='spline' is not allowed; give a known motion law: cycloidal",
         ),
         ("motion.segments.3.end_deg", 350.0, r"cover 350°; they must cover exactly 360°"),
         ("motion.segments.0.lift_mm", _DELETE, r"motion.segments\[0\].lift_mm is missing"),
@@ -79,7 +80,11 @@ _DELETE = object()
         ),
         ("tolerances", {"phi_um": 5.0}, r"tolerances.phi_um: the unit suffix must be _deg"),
         ("tolerances", {"r": "IT6", "r_um": 3.0}, r"tolerances.r is given twice"),
-        ("operation", {"speed_rpm": -3}, r"operation.speed_rpm=-3: Input should be greater than 0"),
+        (
+            "operation",
+            {"speed_rpm": -3},
+            r"operation.speed_rpm=-3 is not allowed; give a finite number > 0 and ≤ 1e\+06 rpm",
+        ),
     ],
 )
 def test_validation_messages(path: str, value: Any, message: str) -> None:

@@ -13,12 +13,11 @@ from typing import Any
 import pytest
 
 from camtol.config.design_file import (
-    MESSAGE_CHARS,
-    VALUE_CHARS,
     design_from_mapping,
     example_text,
     follower_types,
 )
+from camtol.config.fields import MESSAGE_CHARS, VALUE_CHARS
 from camtol.exceptions import ConfigError
 from camtol.mechanisms import MECHANISMS
 
@@ -52,7 +51,7 @@ def _error(data: dict[str, Any]) -> str:
             "follower.roller_radius_mm=True",
         ),
         ("roller-translating", "follower", "base_radius_mm", "40", "follower.base_radius_mm='40'"),
-        ("roller-translating", "follower", "base_radius_mm", 1e300, "less than or equal to 100000"),
+        ("roller-translating", "follower", "base_radius_mm", 1e300, "≤ 100000 mm"),
         ("roller-translating", "follower", "offset_mm", float("nan"), "finite number"),
         ("cw11-conjugate", "follower", "arm_b_mm", 1e300, "follower.arm_b_mm=1e+300"),
         ("cw11-conjugate", "follower", "arm_a_mm", 5.0, "follower.arm_a_mm=5"),

@@ -34,7 +34,11 @@ def test_the_hash_is_that_of_the_file_however_numbers_are_spelt() -> None:
 @pytest.mark.parametrize(
     ("name", "table", "message"),
     [
-        ("popa-eccentric", "mass_kg = 0\n", r"dynamics\.mass_kg=0: Input should be greater than 0"),
+        (
+            "popa-eccentric",
+            "mass_kg = 0\n",
+            r"dynamics\.mass_kg=0 is not allowed; give a finite number > 0 kg",
+        ),
         ("popa-eccentric", 'mass_kg = "1"\n', r"dynamics\.mass_kg='1'"),
         ("popa-eccentric", "damping_ratio = 2.5\n", r"dynamics\.damping_ratio=2\.5"),
         ("popa-eccentric", "poisson_ratio_cam = 0.5\n", r"dynamics\.poisson_ratio_cam=0\.5"),

@@ -1,12 +1,13 @@
 """Design files: schema, writer and built-in examples (an I/O edge).
 
-The TOML schema (strict pydantic models, :mod:`~camtol.config.design_file` and
-:mod:`~camtol.config.inspection_table`), the writer that reads back as an equal design
-(:mod:`~camtol.config.writer`, :mod:`~camtol.config.toml_writer`) and the built-in
-examples (:mod:`~camtol.config.examples`). An I/O edge: the core never imports it.
+The TOML schema (strict tables of fields, :mod:`~camtol.config.fields`, declared by
+:mod:`~camtol.config.design_file` and the modules of the other tables), the writer that
+reads back as an equal design (:mod:`~camtol.config.writer`,
+:mod:`~camtol.config.toml_writer`) and the built-in examples
+(:mod:`~camtol.config.examples`). An I/O edge: the core never imports it.
 
 The names below are imported on first use (PEP 562), so that listing the examples does
-not load pydantic.
+not load numpy.
 """
 
 from __future__ import annotations

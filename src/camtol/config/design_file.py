@@ -39,9 +39,10 @@ Lifts are in mm for translating followers (``lift_mm``) and degrees for oscillat
 (``lift_deg``).
 
 Why one module: it is the one mapping from a design file's fields to a
-:class:`~camtol.design.cam_design.CamDesign`. The pydantic schema says which fields exist
-and the builders below it (follower, motion, tolerances) check what the schema cannot and
-turn each table into its design object, naming fields by the same ``table.field`` paths in
+:class:`~camtol.design.cam_design.CamDesign`. The tables of
+fields (:mod:`camtol.config.fields`) say which fields exist and what each allows; the
+builders below them (follower, motion, tolerances) check what a field alone cannot and turn
+each table into its design object, naming fields by the same ``table.field`` paths in
 every message; the example and writer helpers are only re-exported here.
 """
 
@@ -51,23 +52,25 @@ import math
 from collections.abc import Mapping
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import (
-    BaseModel,
-    ConfigDict,
-    Field,
-    TypeAdapter,
-    ValidationError,
-    create_model,
-    field_validator,
-)
 
 from camtol.config.examples import example_names as example_names
 from camtol.config.examples import example_summary as example_summary
 from camtol.config.examples import example_text as example_text
 from camtol.config.examples import parse_toml as _parse_toml
+from camtol.config.fields import (
+    AnyTable,
+    Choice,
+    Field,
+    ListOf,
+    Number,
+    Table,
+    Text,
+    describe_problems,
+    short_repr,
+)
 from camtol.design.cam_design import CamDesign, ToleranceSpec
 from camtol.design.motion import (
     MOTION_LAWS,
@@ -79,7 +82,7 @@ from camtol.design.motion import (
 )
 from camtol.design.sources import DESIGN_SOURCES
 from camtol.design.table_noise import table_resolution
-from camtol.exceptions import ConfigError, DesignError, InputFileError
+from camtol.exceptions import ConfigError, DesignError, FieldErrors, InputFileError
 from camtol.grid import drop_closing_row, uniform_table_step
 from camtol.mechanisms import MECHANISMS, Mechanism
 from camtol.tables import read_table
@@ -113,56 +116,25 @@ ANGLE_MAX_DEG = 1e4
 DEVIATION_MAX_UM = 1e6
 #: Largest explicit angle deviation in [tolerances]. [deg]
 DEVIATION_MAX_DEG = 90.0
-#: Longest value shown in a message (longer ones are shortened with "…"). [characters]
-VALUE_CHARS = 80
-#: Longest validation message (further problems are counted, not listed). [characters]
-MESSAGE_CHARS = 400
-
-_FINITE: dict[str, Any] = {"allow_inf_nan": False}
-
-
-class _Strict(BaseModel):
-    # strict: a string is not a number, a boolean is not a length (issue 9 item 11)
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-
-def _number(lo: float, hi: float, description: str, *, open_low: bool = False) -> Any:
-    low: dict[str, Any] = {"gt": lo} if open_low else {"ge": lo}
-    return Annotated[float, Field(le=hi, description=description, **low, **_FINITE)]
+# The tables are strict (camtol.config.fields): a string is not a number, a boolean is
+# not a length (issue 9 item 11), and every number is finite.
 
 
 # --- followers: derived from the follower classes ---------------------------------------
-def _follower_model(cls: type[Mechanism]) -> type[BaseModel]:
-    """Build the pydantic model of one follower type from its Parameter declarations."""
-    fields: dict[str, Any] = {"type": (Literal[cls.kind], ...)}
+@lru_cache(maxsize=32)
+def _follower_table(cls: type[Mechanism]) -> Table:
+    """Declare the ``[follower]`` table of one follower type from its parameters."""
+    fields: dict[str, Field] = {"type": Field(Choice((cls.kind,)))}
     for p in cls.parameters:
-        bounds: dict[str, Any] = (
-            {"gt": p.minimum, "lt": p.maximum}
-            if p.exclusive
-            else {"ge": p.minimum, "le": p.maximum}
+        kind = Number(
+            p.minimum,
+            p.maximum,
+            exclusive_minimum=p.exclusive,
+            exclusive_maximum=p.exclusive,
+            unit=p.unit,
         )
-        desc = f"{p.description}; {p.describe_range()}"
-        ann: Any = Annotated[float, Field(description=desc, **bounds, **_FINITE)]
-        if p.required:
-            # Field() without a default marks it required; a bare ``...`` beside an
-            # Annotated Field was taken as the default itself by pydantic 2.5.
-            fields[p.name] = (ann, Field())
-        elif p.default is None:
-            fields[p.name] = (ann | None, None)
-        else:
-            fields[p.name] = (ann, p.default)
-    doc = f"``type = {cls.kind!r}``: {cls.title or cls.__name__} follower."
-    model: type[BaseModel] = create_model(
-        f"{cls.__name__}Schema", __base__=_Strict, __doc__=doc, **fields
-    )
-    return model
-
-
-@lru_cache(maxsize=8)
-def _follower_adapter(types: tuple[type[Mechanism], ...]) -> TypeAdapter[Any]:
-    models = tuple(_follower_model(c) for c in types)
-    union: Any = Union[models]  # noqa: UP007  (a runtime tuple of models)
-    return TypeAdapter(Annotated[union, Field(discriminator="type")])
+        fields[p.name] = Field(kind) if p.required else Field(kind, p.default)
+    return Table(fields)
 
 
 def follower_types() -> dict[str, type[Mechanism]]:
@@ -182,181 +154,148 @@ def _follower(raw: Any) -> Mechanism:
     types = follower_types()
     allowed = ", ".join(types)
     if not isinstance(raw, Mapping):
-        raise ConfigError(f"follower={_short(raw)} must be a table; allowed types: {allowed}")
+        raise ConfigError(f"follower={short_repr(raw)} must be a table; allowed types: {allowed}")
     ftype = raw.get("type")
     if ftype is None:
         raise ConfigError(f"follower.type is missing; allowed: {allowed}")
     if not isinstance(ftype, str) or ftype not in types:
-        raise ConfigError(f"follower.type={_short(ftype)} is unknown; allowed: {allowed}")
-    adapter = _follower_adapter(tuple(types.values()))
-    try:
-        model = adapter.validate_python(dict(raw))
-    except ValidationError as exc:
-        raise ConfigError(_format_validation_error(exc, "follower.", skip=1)) from None
-    values = model.model_dump(exclude={"type"})
+        raise ConfigError(f"follower.type={short_repr(ftype)} is unknown; allowed: {allowed}")
+    values = _validate(_follower_table(types[ftype]), raw, "follower")
+    del values["type"]
     return types[ftype].from_parameters(values)
 
 
 # --- motion ----------------------------------------------------------------------------
-_LIFT_MM = _number(0.0, LIFT_MAX_MM, "segment lift [mm]", open_low=True)
-_LIFT_DEG = _number(0.0, LIFT_MAX_DEG, "segment swing [deg]", open_low=True)
-_ANGLE = _number(-ANGLE_MAX_DEG, ANGLE_MAX_DEG, "cam angle [deg]")
+_LIFT_MM = Number(0.0, LIFT_MAX_MM, exclusive_minimum=True, unit="mm")
+_LIFT_DEG = Number(0.0, LIFT_MAX_DEG, exclusive_minimum=True, unit="deg")
+_ANGLE = Number(-ANGLE_MAX_DEG, ANGLE_MAX_DEG, unit="deg")
+
+#: One motion segment: kind, law, start/end angle [deg], lift [mm] or swing [deg].
+_SEGMENT = Table(
+    {
+        "kind": Field(Choice(("rise", "return", "dwell"))),
+        "law": Field(Choice(MOTION_LAWS, explain=RETIRED_LAWS, noun="motion law"), None),
+        "start_deg": Field(_ANGLE, None),
+        "end_deg": Field(_ANGLE),
+        "lift_mm": Field(_LIFT_MM, None),
+        "lift_deg": Field(_LIFT_DEG, None),
+    }
+)
+
+#: The motion program: segments or a lift table (file, or inline values).
+_MOTION = Table(
+    {
+        "segments": Field(ListOf(_SEGMENT), None),
+        "table_file": Field(Text(min_chars=1), None),
+        "table_step_deg": Field(Number(0.0, 360.0, exclusive_minimum=True, unit="deg"), None),
+        "table_lift_mm": Field(ListOf(Number(-LIFT_MAX_MM, LIFT_MAX_MM, unit="mm")), None),
+        "table_lift_deg": Field(ListOf(Number(-LIFT_MAX_DEG, LIFT_MAX_DEG, unit="deg")), None),
+    }
+)
+
+#: Operating conditions: speed (0, 1e6] rpm, pressure-angle limit (0, 90) deg.
+_OPERATION = Table(
+    {
+        "speed_rpm": Field(Number(0.0, SPEED_MAX_RPM, exclusive_minimum=True, unit="rpm"), None),
+        "pressure_angle_limit_deg": Field(
+            Number(0.0, 90.0, exclusive_minimum=True, exclusive_maximum=True, unit="deg"), None
+        ),
+    }
+)
+
+#: Optional ``[traceability]`` table: what identifies the part in a QA report.
+_TRACEABILITY = Table(
+    {
+        name: Field(Text(), None)
+        for name in (
+            "part_number",
+            "drawing_number",
+            "revision",
+            "serial",
+            "inspector",
+            "instrument",
+            "date",
+        )
+    }
+)
+
+#: Optional ``[drawing]`` table: features drawn in the DXF/SVG export only.
+_DRAWING = Table(
+    {
+        "bore_diameter_mm": Field(Number(0.0, exclusive_minimum=True, unit="mm"), None),
+        "hub_diameter_mm": Field(Number(0.0, exclusive_minimum=True, unit="mm"), None),
+    }
+)
+
+#: Top level of a design file. The tables typed elsewhere are taken whole here:
+#: ``[follower]`` by its type (above), ``[tolerances]`` by the follower's sources,
+#: ``[inspection]`` by camtol.config.inspection_table (messages name them as
+#: ``inspection.<field>``), ``[statistics]`` by camtol.config.statistics_table (issue 11)
+#: and ``[dynamics]`` by camtol.config.dynamics_table (issue 33).
+_DESIGN = Table(
+    {
+        "name": Field(Text(min_chars=1, max_chars=200)),
+        "description": Field(Text(), ""),
+        "reference": Field(Text(), ""),
+        "follower": Field(AnyTable()),
+        "motion": Field(_MOTION),
+        "tolerances": Field(AnyTable(), {}),
+        "operation": Field(_OPERATION, {"speed_rpm": None, "pressure_angle_limit_deg": None}),
+        "inspection": Field(AnyTable(), {}),
+        "statistics": Field(AnyTable(), {}),
+        "dynamics": Field(AnyTable(), {}),
+        "traceability": Field(_TRACEABILITY, {}),
+        "drawing": Field(_DRAWING, {}),
+    }
+)
 
 
-class SegmentSchema(_Strict):
-    """One motion segment: kind, law, start/end angle [deg], lift [mm] or swing [deg]."""
-
-    kind: Literal["rise", "return", "dwell"]
-    law: str | None = None
-    start_deg: _ANGLE | None = None  # type: ignore[valid-type]
-    end_deg: _ANGLE  # type: ignore[valid-type]
-    lift_mm: _LIFT_MM | None = None  # type: ignore[valid-type]
-    lift_deg: _LIFT_DEG | None = None  # type: ignore[valid-type]
-
-    @field_validator("law")
-    @classmethod
-    def _known_law(cls, v: str | None) -> str | None:
-        if v in RETIRED_LAWS:
-            raise ValueError(RETIRED_LAWS[v])
-        if v is not None and v not in MOTION_LAWS:
-            raise ValueError(f"unknown motion law; allowed: {', '.join(MOTION_LAWS)}")
-        return v
-
-
-_TABLE_MM = Annotated[float, Field(ge=-LIFT_MAX_MM, le=LIFT_MAX_MM, **_FINITE)]
-_TABLE_DEG = Annotated[float, Field(ge=-LIFT_MAX_DEG, le=LIFT_MAX_DEG, **_FINITE)]
-
-
-class MotionSchema(_Strict):
-    """The motion program: segments or a lift table (file, or inline values)."""
-
-    segments: list[SegmentSchema] | None = None
-    table_file: str | None = None
-    table_step_deg: _number(0.0, 360.0, "table step [deg]", open_low=True) | None = None  # type: ignore[valid-type]
-    table_lift_mm: list[_TABLE_MM] | None = None
-    table_lift_deg: list[_TABLE_DEG] | None = None
-
-
-class OperationSchema(_Strict):
-    """Operating conditions: speed (0, 1e6] rpm, pressure-angle limit (0, 90) deg."""
-
-    speed_rpm: _number(0.0, SPEED_MAX_RPM, "cam speed [rpm]", open_low=True) | None = None  # type: ignore[valid-type]
-    pressure_angle_limit_deg: (
-        Annotated[float, Field(gt=0, lt=90, description="design limit [deg]", **_FINITE)] | None
-    ) = None
-
-
-class TraceabilitySchema(_Strict):
-    """Optional ``[traceability]`` table: what identifies the part in a QA report."""
-
-    part_number: str | None = None
-    drawing_number: str | None = None
-    revision: str | None = None
-    serial: str | None = None
-    inspector: str | None = None
-    instrument: str | None = None
-    date: str | None = None
-
-
-class DrawingSchema(_Strict):
-    """Optional ``[drawing]`` table: features drawn in the DXF/SVG export only."""
-
-    bore_diameter_mm: float | None = Field(default=None, gt=0)
-    hub_diameter_mm: float | None = Field(default=None, gt=0)
-
-
-class DesignSchema(_Strict):
-    """Top level of a design file."""
-
-    name: str = Field(min_length=1, max_length=200)
-    description: str = ""
-    reference: str = ""
-    follower: dict[str, Any]
-    motion: MotionSchema
-    tolerances: dict[str, Any] = {}
-    operation: OperationSchema = OperationSchema()
-    # The conjugate fixture's inputs: typed by camtol.pair.fixture_spec (field names checked
-    # there, so that messages name them as `inspection.<field>`).
-    inspection: dict[str, Any] = {}
-    # The statistical tolerance model, parsed by camtol.tolerancing.model (issue 11).
-    statistics: dict[str, Any] = {}
-    # The follower train at speed, parsed by camtol.config.dynamics_table (issue 33).
-    dynamics: dict[str, Any] = {}
-    traceability: TraceabilitySchema = TraceabilitySchema()
-    drawing: DrawingSchema = DrawingSchema()
-
-
-def _short(value: Any) -> str:
-    """Repr of a value, at most :data:`VALUE_CHARS` characters."""
-    text = repr(value)
-    return text if len(text) <= VALUE_CHARS else text[: VALUE_CHARS - 1] + "…"
-
-
-def _format_validation_error(exc: ValidationError, prefix: str = "", *, skip: int = 0) -> str:
-    """Format each problem as ``field=value: what is allowed``, on one bounded line."""
-    parts = []
-    for err in exc.errors():
-        loc = ".".join(str(p) if not isinstance(p, int) else f"[{p}]" for p in err["loc"][skip:])
-        loc = (prefix + loc).replace(".[", "[").rstrip(".")
-        if err["type"] == "missing":
-            parts.append(f"{loc} is missing")
-        elif err["type"] == "extra_forbidden":
-            parts.append(f"{loc} is not a known field")
-        else:
-            msg = err["msg"].removeprefix("Value error, ")
-            parts.append(f"{loc}={_short(err.get('input'))}: {msg}")
-    out = parts[0]
-    for n, part in enumerate(parts[1:], start=1):
-        if len(out) + len(part) + 2 > MESSAGE_CHARS:
-            return f"{out}; and {len(parts) - n} more problem(s)"
-        out += "; " + part
-    return out
-
-
-def _validate(model: type[Any], data: Any, prefix: str = "") -> Any:
+def _validate(table: Table, data: Any, prefix: str = "") -> dict[str, Any]:
     try:
-        return model.model_validate(data)
-    except ValidationError as exc:
-        raise ConfigError(_format_validation_error(exc, prefix)) from None
+        return table.validate(data)
+    except FieldErrors as exc:
+        raise ConfigError(describe_problems(exc.problems, prefix)) from None
 
 
-def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -> MotionProgram:
+def _motion_program(
+    m: Mapping[str, Any], oscillating: bool, base_dir: Path | None
+) -> MotionProgram:
     unit = "deg" if oscillating else "mm"
     wrong = "mm" if oscillating else "deg"
     kind = "an oscillating" if oscillating else "a translating"
-    sources = [m.segments is not None, m.table_file is not None, m.table_step_deg is not None]
+    sources = [m[k] is not None for k in ("segments", "table_file", "table_step_deg")]
     if sum(sources) != 1:
         raise ConfigError(
             "motion: give exactly one of segments, table_file, or table_step_deg with"
             f" table_lift_{unit}"
         )
     scale = math.radians(1.0) if oscillating else 1.0
-    if m.segments is not None:
+    if m["segments"] is not None:
         segs = []
         prev_end: float | None = None
-        for i, s in enumerate(m.segments):
+        for i, s in enumerate(m["segments"]):
             where = f"motion.segments[{i}]"
-            if (s.lift_mm if oscillating else s.lift_deg) is not None:
+            if (s["lift_mm"] if oscillating else s["lift_deg"]) is not None:
                 raise ConfigError(
                     f"{where}.lift_{wrong} is not allowed: {kind} follower's lift is given as"
                     f" lift_{unit}"
                 )
-            seg_lift = s.lift_deg if oscillating else s.lift_mm
-            if s.kind == "dwell":
-                if seg_lift is not None or s.law is not None:
+            seg_lift = s["lift_deg"] if oscillating else s["lift_mm"]
+            if s["kind"] == "dwell":
+                if seg_lift is not None or s["law"] is not None:
                     raise ConfigError(f"{where}: a dwell takes no law and no lift_{unit}")
             elif seg_lift is None:
-                raise ConfigError(f"{where}.lift_{unit} is missing: a {s.kind} needs its height")
-            start = s.start_deg if s.start_deg is not None else prev_end
+                raise ConfigError(f"{where}.lift_{unit} is missing: a {s['kind']} needs its height")
+            start = s["start_deg"] if s["start_deg"] is not None else prev_end
             if start is None:
                 raise ConfigError(f"{where}.start_deg is missing (needed for the first segment)")
-            prev_end = s.end_deg
+            prev_end = s["end_deg"]
             segs.append(
                 Segment(
-                    s.kind,
+                    s["kind"],
                     math.radians(start),
-                    math.radians(s.end_deg),
-                    s.law or "cycloidal",
+                    math.radians(s["end_deg"]),
+                    s["law"] or "cycloidal",
                     (seg_lift or 0.0) * scale,
                 )
             )
@@ -374,22 +313,22 @@ def _motion_program(m: MotionSchema, oscillating: bool, base_dir: Path | None) -
                 " rises and returns must balance over a revolution"
             )
         return SegmentProgram(tuple(segs))
-    if m.table_file is not None:
-        path = Path(m.table_file)
+    if m["table_file"] is not None:
+        path = Path(m["table_file"])
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
         theta_deg, lift = _read_lift_csv(path, unit)
     else:
-        values = m.table_lift_deg if oscillating else m.table_lift_mm
-        if (m.table_lift_mm if oscillating else m.table_lift_deg) is not None or values is None:
+        values = m[f"table_lift_{unit}"]
+        if m[f"table_lift_{wrong}"] is not None or values is None:
             raise ConfigError(f"motion.table_lift_{unit} is missing ({kind} follower)")
-        assert m.table_step_deg is not None
-        theta_deg = np.arange(len(values)) * m.table_step_deg
+        assert m["table_step_deg"] is not None
+        theta_deg = np.arange(len(values)) * m["table_step_deg"]
         lift = np.asarray(values, dtype=float)
-        if abs(len(values) * m.table_step_deg - 360.0) > 1e-9:
+        if abs(len(values) * m["table_step_deg"] - 360.0) > 1e-9:
             raise ConfigError(
-                f"motion.table_step_deg={m.table_step_deg:g} with {len(values)} lifts covers"
-                f" {len(values) * m.table_step_deg:g}°; the table must cover exactly 360°"
+                f"motion.table_step_deg={m['table_step_deg']:g} with {len(values)} lifts covers"
+                f" {len(values) * m['table_step_deg']:g}°; the table must cover exactly 360°"
                 " (omit the closing 360° entry)"
             )
     q = table_resolution(lift)
@@ -477,13 +416,13 @@ def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec,
         if suffix == "":
             if not isinstance(value, str):
                 raise ConfigError(
-                    f"tolerances.{name}={_short(value)}: a bare key takes an IT grade such as"
+                    f"tolerances.{name}={short_repr(value)}: a bare key takes an IT grade such as"
                     f" 'IT6'; give an explicit deviation as {key}_{want}"
                 )
             try:
                 specs.append(ToleranceSpec(key, grade=value))
             except ValueError as exc:
-                raise ConfigError(f"tolerances.{name}={_short(value)}: {exc}") from None
+                raise ConfigError(f"tolerances.{name}={short_repr(value)}: {exc}") from None
         elif suffix == want:
             limit = DEVIATION_MAX_UM if want == "um" else DEVIATION_MAX_DEG
             if (
@@ -493,7 +432,7 @@ def _tolerances(raw: Mapping[str, Any], mech: Mechanism) -> tuple[ToleranceSpec,
                 or abs(value) > limit
             ):
                 raise ConfigError(
-                    f"tolerances.{name}={_short(value)} must be a finite number of {want}"
+                    f"tolerances.{name}={short_repr(value)} must be a finite number of {want}"
                     f" with |value| ≤ {limit:g}"
                 )
             specs.append(ToleranceSpec(key, deviation=float(value)))
@@ -519,20 +458,20 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
     ConfigError
         Naming the field, the value and what is allowed.
     """
-    top = _validate(DesignSchema, data)
+    top = _validate(_DESIGN, data)
     try:
-        mech = _follower(top.follower)
-        program = _motion_program(top.motion, mech.output == "oscillating", base_dir)
+        mech = _follower(top["follower"])
+        program = _motion_program(top["motion"], mech.output == "oscillating", base_dir)
         design = CamDesign(
-            name=top.name,
+            name=top["name"],
             mechanism=mech,
             program=program,
-            tolerances=_tolerances(top.tolerances, mech),
-            speed_rpm=top.operation.speed_rpm,
-            pressure_angle_limit_deg=top.operation.pressure_angle_limit_deg,
-            description=top.description,
-            reference=top.reference,
-            inspection=_inspection(top.inspection, base_dir),
+            tolerances=_tolerances(top["tolerances"], mech),
+            speed_rpm=top["operation"]["speed_rpm"],
+            pressure_angle_limit_deg=top["operation"]["pressure_angle_limit_deg"],
+            description=top["description"],
+            reference=top["reference"],
+            inspection=_inspection(top["inspection"], base_dir),
             extras=_extras(top),
         )
         raw = design.extras.get("statistics")
@@ -552,21 +491,21 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
         raise ConfigError(str(exc)) from None
 
 
-def _extras(top: DesignSchema) -> dict[str, object]:
+def _extras(top: Mapping[str, Any]) -> dict[str, object]:
     """Return ``[traceability]``, ``[drawing]``, ``[statistics]``, ``[dynamics]`` as extras."""
     out: dict[str, object] = {}
-    trace = top.traceability.model_dump(exclude_none=True)
+    trace = {k: v for k, v in top["traceability"].items() if v is not None}
     if trace:
         out["traceability"] = trace
-    out.update(top.drawing.model_dump(exclude_none=True))
-    if top.statistics:
-        out["statistics"] = top.statistics
-    if top.dynamics:
-        out["dynamics"] = top.dynamics
+    out.update({k: v for k, v in top["drawing"].items() if v is not None})
+    if top["statistics"]:
+        out["statistics"] = top["statistics"]
+    if top["dynamics"]:
+        out["dynamics"] = top["dynamics"]
     return out
 
 
-def _inspection(raw: dict[str, Any], base_dir: Path | None) -> FixtureSpec | ZoneTable | None:
+def _inspection(raw: Mapping[str, Any], base_dir: Path | None) -> FixtureSpec | ZoneTable | None:
     """Return the ``[inspection]`` table as a typed, frozen spec (None when absent)."""
     if not raw:
         return None

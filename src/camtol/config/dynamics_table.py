@@ -1,6 +1,7 @@
 """The ``[dynamics]`` table of a design file, validated (docs/file-formats.md, THEORY §9.1).
 
-A strict pydantic schema (a string is not a number, a boolean is not a mass) with the
+A strict table of fields (:mod:`camtol.config.fields`: a string is not a number, a
+boolean is not a mass) with the
 bounds of every field, then the checks that need the design: the follower's output picks
 the field names (``mass_kg`` or ``inertia_kg_mm2`` ...), a conjugate pair takes no spring
 and no train stiffness, gravity only for a translating follower. The result is the
@@ -12,42 +13,47 @@ the value and what is allowed.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Annotated, Any
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
-
+from camtol.config.fields import Field, Flag, Number, Table, describe_problems
 from camtol.design.cam_design import CamDesign
 from camtol.dynamics.train import DynamicsTable, check_applicable
-from camtol.exceptions import ConfigError
+from camtol.exceptions import ConfigError, FieldErrors
 
 __all__ = ["parse_dynamics"]
 
-_POSITIVE = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-_NONNEGATIVE = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-_POISSON = Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)]
+
+def _positive(unit: str) -> Field:
+    return Field(Number(0.0, exclusive_minimum=True, unit=unit), None)
 
 
-class DynamicsSchema(BaseModel):
-    """Fields of the ``[dynamics]`` table (THEORY §9.1), all optional, in file units."""
+def _nonnegative(unit: str) -> Field:
+    return Field(Number(0.0, unit=unit), None)
 
-    model_config = ConfigDict(extra="forbid", strict=True)
 
-    mass_kg: _POSITIVE | None = None
-    spring_rate_n_per_mm: _POSITIVE | None = None
-    preload_n: _NONNEGATIVE | None = None
-    follower_stiffness_n_per_mm: _POSITIVE | None = None
-    inertia_kg_mm2: _POSITIVE | None = None
-    spring_rate_nm_per_rad: _POSITIVE | None = None
-    preload_nm: _NONNEGATIVE | None = None
-    follower_stiffness_nm_per_rad: _POSITIVE | None = None
-    damping_ratio: Annotated[float, Field(ge=0, lt=2, allow_inf_nan=False)] | None = None
-    face_width_mm: _POSITIVE | None = None
-    youngs_modulus_cam_gpa: _POSITIVE | None = None
-    youngs_modulus_follower_gpa: _POSITIVE | None = None
-    poisson_ratio_cam: _POISSON | None = None
-    poisson_ratio_follower: _POISSON | None = None
-    gravity: bool = False
-    gravity_angle_deg: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] | None = None
+_POISSON = Field(Number(0.0, 0.5, exclusive_maximum=True), None)
+
+#: Fields of the ``[dynamics]`` table (THEORY §9.1), all optional, in file units.
+DYNAMICS_TABLE = Table(
+    {
+        "mass_kg": _positive("kg"),
+        "spring_rate_n_per_mm": _positive("N/mm"),
+        "preload_n": _nonnegative("N"),
+        "follower_stiffness_n_per_mm": _positive("N/mm"),
+        "inertia_kg_mm2": _positive("kg·mm²"),
+        "spring_rate_nm_per_rad": _positive("N·m/rad"),
+        "preload_nm": _nonnegative("N·m"),
+        "follower_stiffness_nm_per_rad": _positive("N·m/rad"),
+        "damping_ratio": Field(Number(0.0, 2.0, exclusive_maximum=True), None),
+        "face_width_mm": _positive("mm"),
+        "youngs_modulus_cam_gpa": _positive("GPa"),
+        "youngs_modulus_follower_gpa": _positive("GPa"),
+        "poisson_ratio_cam": _POISSON,
+        "poisson_ratio_follower": _POISSON,
+        "gravity": Field(Flag(), False),
+        "gravity_angle_deg": Field(Number(-180.0, 180.0, unit="deg"), None),
+    }
+)
 
 
 def parse_dynamics(raw: Mapping[str, Any], design: CamDesign) -> DynamicsTable:
@@ -72,21 +78,19 @@ def parse_dynamics(raw: Mapping[str, Any], design: CamDesign) -> DynamicsTable:
     from camtol.pair.kinematics import is_pair
 
     try:
-        table = DynamicsSchema.model_validate(dict(raw))
-    except ValidationError as exc:
-        e = exc.errors()[0]
-        loc = ".".join(str(p) for p in e["loc"])
-        if e["type"] == "extra_forbidden":
-            allowed = ", ".join(DynamicsSchema.model_fields)
+        table = DYNAMICS_TABLE.validate(raw)
+    except FieldErrors as exc:
+        problem = exc.problems[0]
+        if problem.kind == "unknown":
             raise ConfigError(
-                f"dynamics.{loc} is not a field of the [dynamics] table; allowed: {allowed}"
+                f"dynamics.{problem.loc[0]} is not a field of the [dynamics] table;"
+                f" allowed: {problem.allowed}"
             ) from None
-        msg = e["msg"].removeprefix("Value error, ")
-        raise ConfigError(f"dynamics.{loc}={e.get('input')!r}: {msg}") from None
-    values = {k: v for k, v in table.model_dump().items() if v is not None and v is not False}
-    if table.gravity_angle_deg is not None and not table.gravity:
+        raise ConfigError(describe_problems(exc.problems[:1], "dynamics")) from None
+    values = {k: v for k, v in table.items() if v is not None and v is not False}
+    if table["gravity_angle_deg"] is not None and not table["gravity"]:
         raise ConfigError(
-            f"dynamics.gravity_angle_deg={table.gravity_angle_deg:g} needs gravity = true"
+            f"dynamics.gravity_angle_deg={table['gravity_angle_deg']:g} needs gravity = true"
         )
     try:
         check_applicable(values, design, form_closed=is_pair(design))

@@ -1,6 +1,6 @@
 """The built-in example designs: names, TOML text and one-line summaries.
 
-Kept free of numpy and pydantic so that ``camtol examples`` starts fast; loading an
+Kept free of numpy so that ``camtol examples`` starts fast; loading an
 example as a design is :func:`camtol.config.design_file.load_example`.
 """
 

@@ -1,6 +1,7 @@
 """The ``[inspection]`` table of a design file, validated (THEORY §4, §8.3).
 
-A strict pydantic model (a string is not a number, a boolean is not a length; every
+A strict table of fields (:mod:`camtol.config.fields`: a string is not a number, a
+boolean is not a length; every
 length within ±10 mm, Δη within ±10°) turns the table into the frozen
 :class:`camtol.pair.fixture_spec.FixtureSpec` on the design. Messages name the field as
 the user wrote it (``inspection.tolerance_a_um``), its value and what is allowed. The
@@ -23,9 +24,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, ValidationError
-
-from camtol.exceptions import DesignError
+from camtol.config.fields import AnyOf, Field, ListOf, Number, Table, Text
+from camtol.exceptions import DesignError, FieldErrors
 from camtol.inspection.error_functions import ErrorFunction, parse_error_function
 from camtol.inspection.units import MAX_ANGLE_ERROR_DEG, MAX_ERROR_UM
 from camtol.inspection.zone import ZoneSpec, ZoneTable
@@ -64,33 +64,35 @@ _FIXTURE_KEYS = frozenset(
 )
 
 
-class _InspectionSchema(BaseModel):
-    """Strict types of the ``[inspection]`` table (values checked further below)."""
+_REAL = Number(finite=False)  # types only here: the values are checked below
+_REALS = ListOf(_REAL)
+_FUNCTION_KIND = AnyOf((_REAL, Text()))
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-    tolerance_a_um: list[float] | None = None
-    tolerance_b_um: list[float] | None = None
-    profile_tolerance_um: float | None = None
-    profile_tolerance_a_um: float | None = None
-    profile_tolerance_b_um: float | None = None
-    profile_tolerance: str | None = None
-    profile_tolerance_a: str | None = None
-    profile_tolerance_b: str | None = None
-    profile_offset_um: float | None = None
-    profile_offset_a_um: float | None = None
-    profile_offset_b_um: float | None = None
-    limits_um: list[float] | None = None
-    limits_a_um: list[float] | None = None
-    limits_b_um: list[float] | None = None
-    dl_a_um: float = 0.0
-    dl_b_um: float = 0.0
-    drr_c_um: float = 0.0
-    drr_d_um: float = 0.0
-    deta_deg: float = 0.0
-    master_a_um: float | str = 0.0
-    master_b_um: float | str = 0.0
-    df_mea_um: float | str | None = None
+#: Strict types of the ``[inspection]`` table (values checked further below).
+_INSPECTION = Table(
+    {
+        "tolerance_a_um": Field(_REALS, None),
+        "tolerance_b_um": Field(_REALS, None),
+        **{
+            name.format(c=c): Field(kind, None)
+            for c in ("", "_a", "_b")
+            for name, kind in (
+                ("profile_tolerance{c}_um", _REAL),
+                ("profile_tolerance{c}", Text()),
+                ("profile_offset{c}_um", _REAL),
+                ("limits{c}_um", _REALS),
+            )
+        },
+        "dl_a_um": Field(_REAL, 0.0),
+        "dl_b_um": Field(_REAL, 0.0),
+        "drr_c_um": Field(_REAL, 0.0),
+        "drr_d_um": Field(_REAL, 0.0),
+        "deta_deg": Field(_REAL, 0.0),
+        "master_a_um": Field(_FUNCTION_KIND, 0.0),
+        "master_b_um": Field(_FUNCTION_KIND, 0.0),
+        "df_mea_um": Field(_FUNCTION_KIND, None),
+    }
+)
 
 
 def _shown(value: object) -> str:
@@ -98,12 +100,12 @@ def _shown(value: object) -> str:
     return r if len(r) <= 60 else r[:50] + "..."
 
 
-def _validation_message(exc: ValidationError, raw: Mapping[str, Any], prefix: str) -> str:
-    err = exc.errors()[0]
-    key = str(err["loc"][0]) if err["loc"] else ""
-    if err["type"] == "extra_forbidden":
+def _validation_message(exc: FieldErrors, raw: Mapping[str, Any], prefix: str) -> str:
+    problem = exc.problems[0]
+    key = str(problem.loc[0]) if problem.loc else ""
+    if problem.kind == "unknown":
         return f"{prefix}{key} is not a known field; allowed: {', '.join(_ALLOWED)}"
-    if err["type"] == "missing":
+    if problem.kind == "missing":
         return f"{prefix}{key} is missing; give {_ALLOWED.get(key, 'a value')}"
     return (
         f"{prefix}{key}={_shown(raw.get(key))} is not allowed; give"
@@ -174,8 +176,8 @@ def fixture_spec_from_mapping(
     if not isinstance(raw, Mapping):
         raise DesignError(f"{prefix.rstrip('.')}={_shown(raw)} is not allowed; give a table")
     try:
-        m = _InspectionSchema.model_validate(dict(raw))
-    except ValidationError as exc:
+        m = _INSPECTION.validate(raw)
+    except FieldErrors as exc:
         raise DesignError(_validation_message(exc, raw, prefix)) from None
     zones = _zones(m, raw, prefix)
     if not _FIXTURE_KEYS.intersection(raw):
@@ -185,19 +187,19 @@ def fixture_spec_from_mapping(
                 " (the CMM zone) or the fixture's inputs (tolerance_a_um, ...)"
             )
         return ZoneTable(zones, table=tuple(dict(raw).items()))
-    if m.tolerance_a_um is None:
+    if m["tolerance_a_um"] is None:
         raise DesignError(f"{prefix}tolerance_a_um is missing; give {_ALLOWED['tolerance_a_um']}")
-    tol_a = _band(m.tolerance_a_um, "tolerance_a_um", prefix, raw.get("tolerance_a_um"))
+    tol_a = _band(m["tolerance_a_um"], "tolerance_a_um", prefix, raw.get("tolerance_a_um"))
     tol_b = (
         tol_a
-        if m.tolerance_b_um is None
-        else _band(m.tolerance_b_um, "tolerance_b_um", prefix, raw.get("tolerance_b_um"))
+        if m["tolerance_b_um"] is None
+        else _band(m["tolerance_b_um"], "tolerance_b_um", prefix, raw.get("tolerance_b_um"))
     )
     lengths = {
-        k: _bounded(getattr(m, k), k, MAX_ERROR_UM, "length", prefix)
+        k: _bounded(m[k], k, MAX_ERROR_UM, "length", prefix)
         for k in ("dl_a_um", "dl_b_um", "drr_c_um", "drr_d_um")
     }
-    deta = _bounded(m.deta_deg, "deta_deg", MAX_ANGLE_ERROR_DEG, "angle", prefix)
+    deta = _bounded(m["deta_deg"], "deta_deg", MAX_ANGLE_ERROR_DEG, "angle", prefix)
     errors = FixtureErrors(
         dl_a_mm=lengths["dl_a_um"] * 1e-3,
         dl_b_mm=lengths["dl_b_um"] * 1e-3,
@@ -224,7 +226,7 @@ def fixture_spec_from_mapping(
     )
 
 
-def _zones(m: _InspectionSchema, raw: Mapping[str, Any], prefix: str) -> dict[str, ZoneSpec]:
+def _zones(m: Mapping[str, Any], raw: Mapping[str, Any], prefix: str) -> dict[str, ZoneSpec]:
     """Return the CMM profile zone of each cam the table states one for (ISO 1101).
 
     Unsuffixed keys state the zone of a single cam, or of both cams of a pair; ``_a`` /
@@ -232,10 +234,10 @@ def _zones(m: _InspectionSchema, raw: Mapping[str, Any], prefix: str) -> dict[st
     """
     out: dict[str, ZoneSpec] = {}
     for suffix, cams in (("", ("A", "B")), ("_a", ("A",)), ("_b", ("B",))):
-        width = getattr(m, f"profile_tolerance{suffix}_um")
-        grade = getattr(m, f"profile_tolerance{suffix}")
-        offset = getattr(m, f"profile_offset{suffix}_um")
-        limits = getattr(m, f"limits{suffix}_um")
+        width = m[f"profile_tolerance{suffix}_um"]
+        grade = m[f"profile_tolerance{suffix}"]
+        offset = m[f"profile_offset{suffix}_um"]
+        limits = m[f"limits{suffix}_um"]
         names = {
             "width": f"{prefix}profile_tolerance{suffix}_um",
             "grade": f"{prefix}profile_tolerance{suffix}",

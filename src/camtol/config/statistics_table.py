@@ -1,6 +1,7 @@
 """The ``[statistics]`` table of a design file, validated (docs/tolerancing.md).
 
-A lax pydantic schema per entry (a number may be written as an integer), then the checks
+A table of fields per entry (:mod:`camtol.config.fields`: a number may be written as an
+integer, a string is not a number), then the checks
 that need the design: every entry names a toleranced source of the design (or
 ``default``, ``profile_process``), biases and zones in the source's own unit, a profile
 process on a profile source the follower has. The result is the design's
@@ -14,10 +15,18 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
-
+from camtol.config.fields import (
+    Field,
+    Flag,
+    Integer,
+    ListOf,
+    Number,
+    Table,
+    Text,
+    describe_problems,
+)
 from camtol.design.cam_design import CamDesign
-from camtol.exceptions import ConfigError
+from camtol.exceptions import ConfigError, FieldErrors
 from camtol.tolerancing.distributions import SourceDistribution
 from camtol.tolerancing.model import StatisticalModel
 from camtol.tolerancing.processes import ProfileProcess
@@ -25,49 +34,55 @@ from camtol.tolerancing.processes import ProfileProcess
 __all__ = ["parse_statistics"]
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=False)
+_OPTIONAL = Field(Number(), None)
+
+#: One source's distribution (in the source's unit: ``_um`` or ``_deg``).
+_SOURCE = Table(
+    {
+        "distribution": Field(Text(), "normal"),
+        "cp": Field(Number(), 1.0),
+        "truncate": Field(Flag(), True),
+        **{
+            f"{name}_{unit}": _OPTIONAL
+            for name in ("bias", "zone_lower", "zone_upper")
+            for unit in ("um", "deg")
+        },
+    }
+)
+
+#: A profile process: random (sigma, correlation) and harmonic (order, amplitude) errors.
+_PROCESS = Table(
+    {
+        "target": Field(Text(), "r"),
+        "sigma_um": _OPTIONAL,
+        "correlation_deg": _OPTIONAL,
+        "harmonics": Field(
+            ListOf(
+                Table(
+                    {
+                        "order": Field(Integer(minimum=1)),
+                        "amplitude_um": Field(Number(0.0, unit="µm")),
+                    }
+                )
+            ),
+            [],
+        ),
+    }
+)
 
 
-class _SourceSchema(_Strict):
-    distribution: str = "normal"
-    cp: float = 1.0
-    truncate: bool = True
-    bias_um: float | None = None
-    bias_deg: float | None = None
-    zone_lower_um: float | None = None
-    zone_upper_um: float | None = None
-    zone_lower_deg: float | None = None
-    zone_upper_deg: float | None = None
-
-
-class _HarmonicSchema(_Strict):
-    order: int = Field(ge=1)
-    amplitude_um: float = Field(ge=0)
-
-
-class _ProcessSchema(_Strict):
-    target: str = "r"
-    sigma_um: float | None = None
-    correlation_deg: float | None = None
-    harmonics: list[_HarmonicSchema] = []
-
-
-def _validate(model: type[_Strict], data: Any, where: str) -> Any:
+def _validate(table: Table, data: Any, where: str) -> dict[str, Any]:
     try:
-        return model.model_validate(data)
-    except ValidationError as exc:
-        e = exc.errors()[0]
-        loc = ".".join(str(p) for p in e["loc"])
-        path = f"{where}.{loc}" if loc else where
-        raise ConfigError(f"{path}={e.get('input')!r}: {e['msg']}") from None
+        return table.validate(data)
+    except FieldErrors as exc:
+        raise ConfigError(describe_problems(exc.problems, where)) from None
 
 
 def _source(data: Any, where: str, unit: str) -> SourceDistribution:
-    s = _validate(_SourceSchema, data, where)
+    s = _validate(_SOURCE, data, where)
     want, other = ("um", "deg") if unit == "mm" else ("deg", "um")
     for name in ("bias", "zone_lower", "zone_upper"):
-        if getattr(s, f"{name}_{other}") is not None:
+        if s[f"{name}_{other}"] is not None:
             raise ConfigError(
                 f"{where}.{name}_{other}: this source is in {want}; use {name}_{want}"
             )
@@ -79,12 +94,12 @@ def _source(data: Any, where: str, unit: str) -> SourceDistribution:
 
     try:
         return SourceDistribution(
-            kind=s.distribution,
-            cp=s.cp,
-            bias=conv(getattr(s, f"bias_{want}")) or 0.0,
-            zone_lower=conv(getattr(s, f"zone_lower_{want}")),
-            zone_upper=conv(getattr(s, f"zone_upper_{want}")),
-            truncate=s.truncate,
+            kind=s["distribution"],
+            cp=s["cp"],
+            bias=conv(s[f"bias_{want}"]) or 0.0,
+            zone_lower=conv(s[f"zone_lower_{want}"]),
+            zone_upper=conv(s[f"zone_upper_{want}"]),
+            truncate=s["truncate"],
             label=where,
         )
     except ConfigError:
@@ -157,13 +172,13 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
 
 def _process(value: Any, where: str, design: CamDesign) -> ProfileProcess:
     """Validate a ``profile_process`` table for a (single-contact) design."""
-    p = _validate(_ProcessSchema, value, where)
+    p = _validate(_PROCESS, value, where)
     try:
         process = ProfileProcess(
-            target=p.target,
-            sigma_um=p.sigma_um,
-            correlation_deg=p.correlation_deg,
-            harmonics=tuple((h.order, h.amplitude_um) for h in p.harmonics),
+            target=p["target"],
+            sigma_um=p["sigma_um"],
+            correlation_deg=p["correlation_deg"],
+            harmonics=tuple((h["order"], h["amplitude_um"]) for h in p["harmonics"]),
         )
     except ValueError as exc:  # its messages name statistics.profile_process
         raise ConfigError(str(exc).replace("statistics.profile_process", where, 1)) from None

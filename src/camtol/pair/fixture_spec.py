@@ -14,9 +14,9 @@ A conjugate design's file may carry the inputs of the fixture analysis::
     master_b_um = "17.5 + 4.5*cos(2*theta)" #   number, formula or CSV path
     df_mea_um = 22                  # measured Δf: number, formula or CSV path
 
-The table is validated once, when the design is loaded, by a strict pydantic model (a
-string is not a number, a boolean is not a length; every length within ±10 mm, Δη within
-±10°) and becomes a frozen :class:`FixtureSpec` on the design
+The table is validated once, when the design is loaded, by a strict table of fields
+(:mod:`camtol.config.fields`: a string is not a number, a boolean is not a length; every
+length within ±10 mm, Δη within ±10°) and becomes a frozen :class:`FixtureSpec` on the design
 (:attr:`camtol.design.cam_design.CamDesign.inspection`). Messages name the field as the user wrote
 it (``inspection.tolerance_a_um``), its value and what is allowed.
 """
