@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 import re
 from pathlib import Path
@@ -101,14 +102,13 @@ def test_pressure_angle_limit_flagged_and_strict(
 
 @pytest.mark.parametrize("example", ["roller-translating", "cw06-translating", "cw11-conjugate"])
 def test_fits_80_columns(example: str) -> None:
-    from rich.console import Console
-
     from camtol.report.tables import print_analysis
+    from camtol.report.terminal import Terminal
 
-    con = Console(width=80, record=True)
+    out = io.StringIO()
     a = analyse(load_example(example), step_deg=0.5)
-    print_analysis(a, console=con)
-    text = con.export_text()
+    print_analysis(a, terminal=Terminal(out, width=80))
+    text = out.getvalue()
     lines = text.splitlines()
     assert max(len(line) for line in lines) <= 80
     # every angle range of the table is whole on one line

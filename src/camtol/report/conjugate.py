@@ -23,6 +23,7 @@ from camtol.report.units import fmt
 
 if TYPE_CHECKING:
     from camtol.pair.indicator import RecordEstimates
+    from camtol.report.terminal import Terminal
 
 __all__ = [
     "conjugate_analysis_json",
@@ -360,10 +361,10 @@ def print_fixture(
     spec: FixtureSpec,
     name: str,
     *,
-    console: Any = None,
+    terminal: Terminal | None = None,
     record: RecordEstimates | None = None,
 ) -> None:
-    """Print the extremes table and the verdicts (rich).
+    """Print the extremes table and the verdicts (colour only on a terminal).
 
     Parameters
     ----------
@@ -373,53 +374,41 @@ def print_fixture(
         The fixture specification the inspection was run with (tolerances and errors).
     name : str
         Design name shown in the heading.
-    console : rich.console.Console, optional
-        Console to print to; by default a new one on standard output (80 columns when
-        not a terminal).
+    terminal : Terminal, optional
+        Where to print (:class:`camtol.report.terminal.Terminal`); standard output by
+        default.
     record : RecordEstimates, optional
         With an indicator record (THEORY §4.4): prints the record's summary and the
         extremes of the estimates at Δf_mea ± u_f.
     """
-    from rich import box
-    from rich.table import Table
+    from camtol.report.terminal import Column, Terminal
 
-    from camtol.report.terminal import terminal_console
-
-    con = console or terminal_console()
-    con.print(f"[bold]{name}[/bold]: conjugate-cam fixture analysis (camtol {__version__})")
+    term = terminal or Terminal()
+    term.paragraph(f"{name}: conjugate-cam fixture analysis (camtol {__version__})", "bold")
     e = spec.errors
-    params = Table(show_header=False, box=None, pad_edge=False)
-    params.add_row(
-        "tolerance cam A", f"{spec.tolerance_a_um[0]:g} .. {spec.tolerance_a_um[1]:g} µm"
+    term.key_values(
+        [
+            ("tolerance cam A", f"{spec.tolerance_a_um[0]:g} .. {spec.tolerance_a_um[1]:g} µm"),
+            ("tolerance cam B", f"{spec.tolerance_b_um[0]:g} .. {spec.tolerance_b_um[1]:g} µm"),
+            ("Δl_A, Δl_B", f"{e.dl_a_mm * 1e3:g} µm, {e.dl_b_mm * 1e3:g} µm"),
+            ("Δr_rC, Δr_rD", f"{e.drr_c_mm * 1e3:g} µm, {e.drr_d_mm * 1e3:g} µm"),
+            ("Δη", f"{math.degrees(e.deta_rad):g}°"),
+            ("master cam A", spec.master_a.description),
+            ("master cam B", spec.master_b.description),
+            ("measured Δf", spec.df_mea.description if spec.df_mea else "(none)"),
+        ]
     )
-    params.add_row(
-        "tolerance cam B", f"{spec.tolerance_b_um[0]:g} .. {spec.tolerance_b_um[1]:g} µm"
-    )
-    params.add_row("Δl_A, Δl_B", f"{e.dl_a_mm * 1e3:g} µm, {e.dl_b_mm * 1e3:g} µm")
-    params.add_row("Δr_rC, Δr_rD", f"{e.drr_c_mm * 1e3:g} µm, {e.drr_d_mm * 1e3:g} µm")
-    params.add_row("Δη", f"{math.degrees(e.deta_rad):g}°")
-    params.add_row("master cam A", spec.master_a.description)
-    params.add_row("master cam B", spec.master_b.description)
-    params.add_row("measured Δf", spec.df_mea.description if spec.df_mea else "(none)")
-    con.print(params)
     th = np.degrees(res.theta_rad)
-    table = Table(
-        title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined)",
-        box=box.SIMPLE_HEAD,
-        pad_edge=False,
-    )
-    for col, just in (
-        ("quantity", "left"),
-        ("unit", "left"),
-        ("max", "right"),
-        ("at θ", "left"),
-        ("min", "right"),
-        ("at θ", "left"),
-    ):
-        wrap = col == "quantity"
-        table.add_column(col, justify=just, no_wrap=not wrap, overflow="fold")  # type: ignore[arg-type]
-    for key, (mx, mn) in res.extremes.items():
-        table.add_row(
+    columns = [
+        Column("quantity", wrap=True),
+        Column("unit"),
+        Column("max", "right"),
+        Column("at θ"),
+        Column("min", "right"),
+        Column("at θ"),
+    ]
+    rows = [
+        (
             fixture_label(key),
             "µm",
             fmt(mx.value),
@@ -427,55 +416,60 @@ def print_fixture(
             fmt(mn.value),
             "\n".join(mn.where.split(", ")),
         )
-    con.print(table)
+        for key, (mx, mn) in res.extremes.items()
+    ]
+    term.table(columns, rows, title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined)")
     if record is not None:
-        _print_record(con, record)
+        _print_record(term, record)
     pred = _prediction_json(res)
     if pred is not None:
-        con.print(
+        term.paragraph(
             "Δf_est from the known errors of both cams (CW11 eqs. 14-18; the master errors)"
             f" − Δf_mea: rms {pred['df_est_minus_mea_rms_um']:.3f} µm, largest"
             f" {pred['df_est_minus_mea_max_abs_um']:.3f} µm at θ = {pred['at_deg']:.1f}°"
         )
     if not res.verdicts:
-        con.print("No measured Δf: forward variation of the master pair only; no verdict.")
+        term.paragraph("No measured Δf: forward variation of the master pair only; no verdict.")
         return
     for cam, v in res.verdicts.items():
         if v.passed:
-            con.print(f"cam {cam}: [green]PASS[/green] (min margin {v.min_margin_um:.3f} µm)")
+            term.paragraph(f"cam {cam}: PASS (min margin {v.min_margin_um:.3f} µm)", "green")
         else:
-            con.print(
-                f"cam {cam}: [red]FAIL[/red] at θ = {_interval_text(v.failing_intervals_deg)}"
-                f" (worst margin {v.min_margin_um:.3f} µm)"
+            term.paragraph(
+                f"cam {cam}: FAIL at θ = {_interval_text(v.failing_intervals_deg)}"
+                f" (worst margin {v.min_margin_um:.3f} µm)",
+                "red",
             )
-    con.print(
+    term.paragraph(
         "Acceptance (THEORY §4.3, a necessary condition): Δf_lower,est ≤ Δf_mea ≤ Δf_upper,est;"
         " interval ends located to 1e-4°.",
-        style="dim",
+        "dim",
     )
 
 
-def _print_record(con: Any, record: RecordEstimates) -> None:
+def _print_record(term: Terminal, record: RecordEstimates) -> None:
     """Print the indicator record's summary and the worst-case estimates (THEORY §4.4)."""
     p = record.processed
     n = p.samples_per_revolution
     spr = f"{n.min()}" if n.min() == n.max() else f"{n.min()}-{n.max()}"
-    con.print(
+    term.paragraph(
         f"Indicator record {p.source}: {p.revolutions} revolution(s), {spr} samples per"
         f" revolution, resampled every {p.theta_deg[1] - p.theta_deg[0]:g}°;"
         f" rms Δf_mea {p.df_mea_rms_um:.3f} µm, u_f (3σ over revolutions)"
         f" rms {p.u_f_rms_um:.3f} µm, max {p.u_f_max_um:.3f} µm"
     )
     for note in p.notes:
-        con.print(f"  note: {note}", style="dim")
+        term.paragraph(f"  note: {note}", "dim", indent="    ")
     for cam in ("A", "B"):
         hi = record.extremes[f"dr_{cam}_est_upper"]
         lo = record.extremes[f"dr_{cam}_est_lower"]
-        con.print(
+        term.paragraph(
             f"  Δr_{cam},est at Δf_mea + u_f: {hi[1].value:.3f} .. {hi[0].value:.3f} µm;"
-            f" at Δf_mea − u_f: {lo[1].value:.3f} .. {lo[0].value:.3f} µm"
+            f" at Δf_mea − u_f: {lo[1].value:.3f} .. {lo[0].value:.3f} µm",
+            indent="    ",
         )
-    con.print(
+    term.paragraph(
         "  Verdicts are taken on the mean record Δf_mea (a necessary condition on the mean).",
-        style="dim",
+        "dim",
+        indent="    ",
     )

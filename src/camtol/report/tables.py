@@ -18,7 +18,7 @@ import dataclasses
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -32,7 +32,11 @@ from camtol.files import atomic_write
 from camtol.iso286 import GradeBracket
 from camtol.report.csv_text import csv_text
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
+from camtol.report.terminal import NO_BREAK
 from camtol.report.units import file_unit, fmt, json_ready, magnitude_unit, pretty_unit
+
+if TYPE_CHECKING:  # pragma: no cover
+    from camtol.report.terminal import Terminal
 
 __all__ = [
     "atomic_write_text",
@@ -382,7 +386,7 @@ def _rows(a: Analysis) -> Iterable[tuple[str, str, str, str, str, str]]:
         label = q.label
         if q.key == "pressure_angle" and limit is not None:
             if beyond_pressure_angle_limit(max(abs(mx.value), abs(mn.value)), limit):
-                label += f" > {limit:g}° LIMIT"
+                label += " " + f"> {limit:g}° LIMIT".replace(" ", NO_BREAK)
         yield _row_cells(label, q.unit, mx, mn)
 
 
@@ -449,93 +453,76 @@ def _motion_rows(a: Analysis) -> list[tuple[str, str]]:
     return rows
 
 
-def print_analysis(a: Analysis, *, console: Any = None, verbose: bool = False) -> None:
-    """Print the design summary and the extremes table (rich; colour only on a terminal).
+def print_analysis(a: Analysis, *, terminal: Terminal | None = None, verbose: bool = False) -> None:
+    """Print the design summary and the extremes table (colour only on a terminal).
 
-    Fits an 80-column terminal: angle ranges are never split, the key/value block is only
-    as wide as its content.
+    Fits the width (80 columns when not a terminal): angle ranges are never split, the
+    key/value block is only as wide as its content.
 
     Parameters
     ----------
     a : Analysis
         Result of :func:`camtol.analysis.result.analyse` for the design.
-    console : rich.console.Console, optional
-        Console to print to; by default a new one on standard output (80 columns when
-        not a terminal).
+    terminal : Terminal, optional
+        Where to print (:class:`camtol.report.terminal.Terminal`); standard output by
+        default.
     verbose : bool
         Also print the IT-grade conventions in force (THEORY §3.6).
     """
-    from rich import box
-    from rich.table import Table
+    from camtol.report.terminal import Column, Terminal
 
-    from camtol.report.terminal import terminal_console
-
-    con = console or terminal_console()
+    term = terminal or Terminal()
     d = a.design
     shown = display_analysis(a)
-    con.print(f"[bold]{d.name}[/bold]  (camtol {__version__})", highlight=False)
+    term.paragraph(f"{d.name}  (camtol {__version__})", "bold")
     if d.description:
-        con.print(d.description.strip(), markup=False, highlight=False)
-    params = Table(show_header=False, box=None, pad_edge=False, expand=False)
-    params.add_column(no_wrap=True)
-    params.add_column(overflow="fold")
-    for name, val in d.mechanism.summary():
-        params.add_row(name, val)
-    params.add_row("motion", d.describe_motion())
+        term.paragraph(d.description.strip())
+    params = [*d.mechanism.summary(), ("motion", d.describe_motion())]
     if d.speed_rpm is not None:
-        params.add_row("cam speed", f"{d.speed_rpm:g} rpm")
-    for row in _motion_rows(a):
-        params.add_row(*row)
+        params.append(("cam speed", f"{d.speed_rpm:g} rpm"))
+    params += _motion_rows(a)
     for g in a.geometry:
-        for row in _geometry_rows(g):
-            params.add_row(*row)
+        params += _geometry_rows(g)
     k = a.kinematics
     if k.face_contact_mm is not None:
-        params.add_row(
-            "contact on face u",
-            f"{k.face_contact_mm.min():.3f} .. {k.face_contact_mm.max():.3f} mm (size the face)",
+        params.append(
+            (
+                "contact on face u",
+                f"{k.face_contact_mm.min():.3f} .. {k.face_contact_mm.max():.3f} mm"
+                " (size the face)",
+            )
         )
-    for t in a.tolerances:
-        params.add_row(f"tolerance {t.key}", f"{t.display} [{t.origin}]")
-    con.print(params, highlight=False)
-    table = Table(
-        title=f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)",
-        box=box.SIMPLE_HEAD,
-        pad_edge=False,
-        padding=(0, 1),
+    params += [(f"tolerance {t.key}", f"{t.display} [{t.origin}]") for t in a.tolerances]
+    term.key_values(params)
+    columns = [
+        Column("quantity", wrap=True),
+        Column("unit"),
+        Column("max", "right"),
+        Column("at θ"),
+        Column("min", "right"),
+        Column("at θ"),
+    ]
+    term.table(
+        columns, list(_rows(a)), title=f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)"
     )
-    for col, just, wrap in (
-        ("quantity", "left", True),
-        ("unit", "left", False),
-        ("max", "right", False),
-        ("at θ", "left", False),
-        ("min", "right", False),
-        ("at θ", "left", False),
-    ):
-        table.add_column(col, justify=just, no_wrap=not wrap, overflow="fold")  # type: ignore[arg-type]
-    for cells in _rows(a):
-        table.add_row(*cells)
-    con.print(table, highlight=False)
     if a.accuracy is None:
-        con.print(f"Output accuracy: {accuracy_words(None)}", highlight=False, markup=False)
+        term.paragraph(f"Output accuracy: {accuracy_words(None)}")
     else:
-        con.print(
+        term.paragraph(
             f"Output accuracy: max |ΔS worst| = {_fmt(shown.extremes['dS_worst'][0].value)}"
             f" {_pretty_unit(shown.error_unit)} over a travel of {shown.travel:g}"
-            f" {_pretty_unit(shown.travel_unit)}: {accuracy_words(a.accuracy)}",
-            highlight=False,
+            f" {_pretty_unit(shown.travel_unit)}: {accuracy_words(a.accuracy)}"
         )
     if a.pressure_angle_exceeds_limit:
-        con.print(
+        term.paragraph(
             f"PRESSURE ANGLE EXCEEDS THE {d.pressure_angle_limit_deg:g}° DESIGN LIMIT"
             " (exit status 1 with --strict)",
-            style="bold red",
-            markup=False,
+            "bold red",
         )
     for note in analysis_notes(a):
-        con.print(f"Note: {note}.", style="yellow", markup=False)
+        term.paragraph(f"Note: {note}.", "yellow")
     if verbose:
-        con.print("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", style="dim", markup=False)
+        term.paragraph("Conventions: " + "; ".join(IT_CONVENTIONS) + ".", "dim")
 
 
 def atomic_write_text(path: str | Path, text: str) -> None:
