@@ -61,6 +61,39 @@ def test_analysis_figure_axes_carry_units(name: str) -> None:
     assert name in fig.get_suptitle()
 
 
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_analysis_figure_fixed_layout_keeps_everything_apart(name: str) -> None:
+    """The figure is laid out once, without constrained layout (issue 32): every panel's
+    decorations (tick labels, axis labels, title, legend) stay on the figure, and no
+    legend or decoration of one panel reaches into the data area of another."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    a = analysis_of(name)
+    fig = plots.analysis_figure(a, analysis_drawing(a))
+    assert fig.get_layout_engine() is None
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    page = fig.bbox
+    tol = 1.0  # [px] a glyph's anti-aliased edge
+    drawn = [ax for ax in fig.axes if ax.axison]
+    for ax in drawn:
+        tight = ax.get_tightbbox(renderer)
+        assert tight is not None
+        assert tight.x0 >= page.x0 - tol and tight.x1 <= page.x1 + tol, ax.get_title()
+        assert tight.y0 >= page.y0 - tol and tight.y1 <= page.y1 + tol, ax.get_title()
+        legend = ax.get_legend()
+        boxes = [ax.yaxis.get_tightbbox(renderer), ax.xaxis.get_tightbbox(renderer)]
+        boxes += [legend.get_window_extent(renderer)] if legend is not None else []
+        for other in drawn:
+            if other is ax or other.bbox.overlaps(ax.bbox):  # itself, or its twin
+                continue
+            inner = other.bbox.padded(-tol)
+            for box in boxes:
+                if box is not None:
+                    assert not box.overlaps(inner), (ax.get_title(), other.get_title())
+
+
 @pytest.mark.parametrize(
     "fn",
     [

@@ -36,7 +36,7 @@ def test_report_figure_keeps_its_curves_extremes_and_is_rendered() -> None:
     from camtol.analysis.drawing import analysis_drawing
     from camtol.analysis.result import analyse
     from camtol.config.design_file import load_example
-    from camtol.report.html import figure_svg
+    from camtol.report.inline_svg import figure_svg
     from camtol.report.plots import analysis_figure
 
     a = analyse(load_example("cw06-translating"), step_deg=0.1)

@@ -471,7 +471,7 @@ def inspect(
                 fig.savefig(tmp, format=Path(plot).suffix.lstrip(".").lower())
         if report_path and fig is not None:
             from camtol.files import atomic_write
-            from camtol.report.html import figure_svg
+            from camtol.report.inline_svg import figure_svg
 
             atomic_write(
                 report_path, rep.inspection_report_html(data, figure_svg(fig, prefix="insp"))

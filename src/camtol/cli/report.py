@@ -211,7 +211,7 @@ def _cmm_part(
     )
     given = {k: v for k, v in traceability.items() if v is not None}
     data["traceability"] = rep.traceability_json(given, design=design, scan_path=scan)
-    from camtol.report.html import figure_svg
+    from camtol.report.inline_svg import figure_svg
     from camtol.report.inspection_plots import inspection_figure
 
     fig = inspection_figure(run.inspection, run.profile, run.functional)

@@ -343,7 +343,7 @@ def dynamics_section(result: DynamicsResult | None, *, note: str = "") -> str:
     if result is None:
         parts.append(f"<p>Not computed: {escape(note)} (THEORY §9).</p>")
         return "\n".join(parts)
-    from camtol.report.html import figure_svg
+    from camtol.report.inline_svg import figure_svg
 
     rows = []
     for line in dynamics_text(result):

@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import datetime as _dt
 import html
-import io
-import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -21,6 +19,7 @@ import numpy as np
 from camtol.analysis.kinematics import beyond_pressure_angle_limit
 from camtol.design.cam_design import IT_CONVENTIONS, CamDesign
 from camtol.report.display import accuracy_words, analysis_notes, display_analysis
+from camtol.report.inline_svg import figure_svg
 from camtol.report.qa import (
     BASE_CSS,
     PRINT_CSS,
@@ -34,13 +33,11 @@ from camtol.report.qa import (
 )
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
-
     from camtol.analysis.radius_table import RadiusTable
     from camtol.analysis.result import Analysis
     from camtol.study import Study
 
-__all__ = ["CONVENTIONS", "InspectionReport", "figure_svg", "report_html", "write_report"]
+__all__ = ["CONVENTIONS", "InspectionReport", "report_html", "write_report"]
 
 #: Sentinel: "the study's own fixture inspection" (the default of report_html).
 _FROM_STUDY: Any = object()
@@ -90,40 +87,6 @@ def _fmt(v: float) -> str:
         return "0"
     mag = int(np.floor(np.log10(abs(v))))
     return f"{v:.{max(0, 4 - mag)}f}" if mag < 4 else f"{v:.0f}"
-
-
-def figure_svg(fig: Figure, *, prefix: str) -> str:
-    """Render a figure as an inline ``<svg>`` element with ids prefixed by ``prefix``.
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-        The figure.
-    prefix : str
-        Unique prefix for the SVG's element ids, so that several figures can share one
-        HTML page without id clashes.
-
-    Returns
-    -------
-    str
-        The ``<svg ...>...</svg>`` markup (no XML declaration or DOCTYPE); text is drawn as
-        paths, so no font needs to be installed where the page is opened. Long curves
-        keep the points a screen can show (:mod:`camtol.report.thinning`).
-    """
-    import matplotlib
-
-    from camtol.report.thinning import thin_lines
-
-    thin_lines(fig)
-    buf = io.StringIO()
-    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": prefix}):
-        fig.savefig(buf, format="svg", metadata={"Date": None})
-    text = buf.getvalue()
-    text = text[text.index("<svg") :]
-    text = re.sub(r'\bid="([^"]+)"', rf'id="{prefix}-\1"', text)
-    text = re.sub(r'href="#([^"]+)"', rf'href="#{prefix}-\1"', text)
-    text = re.sub(r"url\(#([^)]+)\)", rf"url(#{prefix}-\1)", text)
-    return text
 
 
 def _table(head: list[str], rows: list[list[str]], numeric: set[int] | None = None) -> str:

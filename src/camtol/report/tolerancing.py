@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camtol.report.html import _e, _table, figure_svg
+from camtol.report.html import _e, _table
+from camtol.report.inline_svg import figure_svg
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
