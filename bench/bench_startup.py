@@ -17,10 +17,11 @@ measured as installed (pip compiles it) and not recompiled from source on every 
 the baselines alike.
 
 Beside the targets, the run measures the floors the libraries set: a bare interpreter
-importing what ``analyze`` cannot do without (numpy, pydantic, click, rich's console and
-table), the same plus camtol's design-file models (the pydantic classes every design file
-is validated with), and what ``report`` adds (matplotlib.pyplot with the same libraries).
-Their ratios say how much of each target is spent before camtol's own work starts.
+importing what ``analyze`` cannot do without (numpy, click, rich's console and table), the
+same plus camtol's design-file layer (the tables of fields every design file is validated
+with, and the design and mechanism modules they build), and what ``report`` adds
+(matplotlib.pyplot with the same libraries). Their ratios say how much of each target is
+spent before camtol's own work starts.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from common import Figure, print_figures  # noqa: E402
 
 CAMTOL = [sys.executable, "-m", "camtol"]
 #: What ``camtol analyze`` imports from other projects and cannot do without.
-ANALYZE_LIBRARIES = "numpy, pydantic, click, rich.console, rich.table"
+ANALYZE_LIBRARIES = "numpy, click, rich.console, rich.table"
 
 
 def _run(cmd: list[str], env: dict[str, str]) -> tuple[float, float]:
@@ -67,7 +68,7 @@ def measure(rounds: int = 7) -> dict[str, tuple[float, float]]:
             "pyplot": [sys.executable, "-c", "import matplotlib.pyplot"],
             "report": [*CAMTOL, "report", "--example", "cw06-translating", "-o", report],
             "libraries": [sys.executable, "-c", f"import {ANALYZE_LIBRARIES}"],
-            "models": [
+            "design layer": [
                 sys.executable,
                 "-c",
                 f"import {ANALYZE_LIBRARIES}; import camtol.config.design_file",
@@ -116,7 +117,7 @@ def main(rounds: int = 7) -> list[Figure]:
     print("library floors (wall time against the same baselines):")
     for name, what, base, base_name in (
         ("libraries", ANALYZE_LIBRARIES, numpy, "import numpy"),
-        ("models", "those + camtol.config.design_file", numpy, "import numpy"),
+        ("design layer", "those + camtol.config.design_file", numpy, "import numpy"),
         ("report libraries", "those + matplotlib.pyplot", pyplot, "import matplotlib.pyplot"),
     ):
         wall = best[name][0]

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 from camtol.analysis.drawing import CamDrawing, analysis_drawing
 from camtol.analysis.result import Analysis, analyze
 from camtol.design.cam_design import CamDesign
-from camtol.pair.fixture import inspect_conjugate
 from camtol.pair.fixture_spec import fixture_spec
 from camtol.pair.kinematics import is_pair
 
@@ -73,5 +72,8 @@ def study(design_or_analysis: CamDesign | Analysis) -> Study:
     spec = fixture_spec(design)
     if spec is None or not is_pair(design):
         return Study(a, analysis_drawing(a))
+
+    # Imported here: a single cam's report does not load the fixture machinery.
+    from camtol.pair.fixture import inspect_conjugate
 
     return Study(a, analysis_drawing(a), inspect_conjugate(design, spec), spec)

@@ -94,8 +94,11 @@ def _simple_harmonic(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
 
 def _polynomial(coefficients: Sequence[float]) -> NormalizedLaw:
     """Return a law s(x) = Σ c_k x^k with its analytic derivatives."""
-    p0 = np.polynomial.Polynomial(coefficients)
-    polys = [tuple(float(c) for c in p.coef) for p in (p0, p0.deriv(1), p0.deriv(2), p0.deriv(3))]
+    # d/dx Σ c_k x^k = Σ k c_k x^(k-1), as numpy's polyder computes it (without importing
+    # numpy.polynomial, a few ms of every command's start-up).
+    polys = [tuple(float(c) for c in coefficients)]
+    for _ in range(3):
+        polys.append(tuple(k * c for k, c in enumerate(polys[-1]) if k > 0) or (0.0,))
 
     def law(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         s, v, a, j = (_horner(c, x) for c in polys)
