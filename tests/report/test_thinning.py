@@ -58,3 +58,50 @@ def test_report_figure_keeps_its_curves_extremes_and_is_rendered() -> None:
         assert xt.size == x.size or xt.size <= 4 * np.ceil(ax_width_in * COLUMNS_PER_INCH)
     svg = figure_svg(fig, prefix="t")
     assert svg.startswith("<svg") and svg.count("<path") > 100
+
+
+def test_a_band_keeps_each_edge_extremes_per_column() -> None:
+    # The worst-case envelope ±Σ|ΔX_p| of the ΔV and ΔA panels: fill_between's polygon.
+    from matplotlib.figure import Figure
+
+    from camtol.report.thinning import thinned_band
+
+    x = np.linspace(0.0, 360.0, 3601)
+    upper = 1.0 + np.abs(np.sin(np.radians(5 * x)))
+    upper[2000] = 9.0  # a spike of the upper edge
+    lower = -upper
+    ax = Figure(figsize=(6, 3)).add_subplot()
+    band = ax.fill_between(x, lower, upper)
+    (path,) = band.get_paths()
+    columns = 500
+    thin = thinned_band(path.vertices, columns)
+    assert thin is not None and len(thin) < 0.6 * len(path.vertices)
+    turn = int(np.argmax(np.diff(thin[:, 0]) < 0))
+    edges = sorted((thin[: turn + 1], thin[turn + 1 :]), key=lambda e: float(e[:, 1].mean()))
+    bottom, top = edges  # fill_between's order of the edges is its own business
+    assert top[:, 1].max() == 9.0 and bottom[:, 1].min() == -9.0  # the spike kept
+    col = np.minimum((x * columns / 360.0).astype(int), columns - 1)
+    col_top = np.minimum((top[:, 0] * columns / 360.0).astype(int), columns - 1)
+    for c in range(0, columns, 7):  # what each pixel column shows is kept
+        assert top[col_top == c, 1].max() == upper[col == c].max()
+    # A polygon that is not one forward and one backward edge is left alone.
+    t = np.linspace(0, 2 * np.pi, 4000)
+    assert thinned_band(np.c_[np.cos(t), np.sin(t)], columns) is None
+
+
+def test_report_figure_bands_are_thinned() -> None:
+    from matplotlib.collections import PolyCollection
+
+    from camtol.analysis.drawing import analysis_drawing
+    from camtol.analysis.result import analyse
+    from camtol.config.design_file import load_example
+    from camtol.report.plots import analysis_figure
+
+    a = analyse(load_example("cw06-translating"), step_deg=0.1)
+    fig = analysis_figure(a, analysis_drawing(a))
+    bands = [c for ax in fig.axes for c in ax.collections if isinstance(c, PolyCollection)]
+    assert len(bands) == 2  # the ΔV and ΔA envelopes
+    before = [len(c.get_paths()[0].vertices) for c in bands]
+    thin_lines(fig)
+    after = [len(c.get_paths()[0].vertices) for c in bands]
+    assert all(b < 0.6 * n for b, n in zip(after, before, strict=True))
