@@ -211,7 +211,7 @@ def run_guarded(fn: Callable[[], int | None]) -> int:
         except CamtolError as exc:
             click.echo(f"camtol: error: {_one_line(str(exc))}", err=True)
             code = EXIT_USAGE
-        except BrokenPipeError:  # stdout's reader left (`| head`): quiet, status 1 as rich
+        except BrokenPipeError:  # stdout's reader left (`| head`): quiet, status 1
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             code = EXIT_FAIL
         except OSError as exc:  # an input or output the OS refuses, in one line
