@@ -51,13 +51,13 @@ def peak_rss_mib(cmd: list[str]) -> float:
 def main() -> list[Figure]:
     """Run the benchmark, print its table, return its figures."""
     python = wall([sys.executable, "-c", "pass"])
-    imports = wall([sys.executable, "-c", "import numpy, pydantic"], repeat=3)
+    imports = wall([sys.executable, "-c", "import numpy, click"], repeat=3)
     help_s = wall([*CAMTOL, "--help"])
     examples_s = wall([*CAMTOL, "examples"])
     analyze = [*CAMTOL, "analyze", "--example", "cw06-translating", "--quiet"]
     rss_base = peak_rss_mib([*analyze, "--step", "1"])
     rss = peak_rss_mib([*analyze, "--step", "0.001"])
-    print(f"python -c pass: {python:.3f} s; python -c 'import numpy, pydantic': {imports:.3f} s")
+    print(f"python -c pass: {python:.3f} s; python -c 'import numpy, click': {imports:.3f} s")
     print(f"analyze --step 1 (interpreter and libraries): {rss_base:.1f} MiB peak RSS")
     print(f"load average while measuring: {', '.join(f'{x:.1f}' for x in os.getloadavg())}")
     figures = [

@@ -23,7 +23,6 @@ HEAVY = [
     "numpy",
     "scipy",
     "matplotlib",
-    "pydantic",
     "rich",
     "camtol.analysis.result",
     "camtol.config.design_file",
