@@ -381,7 +381,7 @@ def print_fixture(
         With an indicator record (THEORY §4.4): prints the record's summary and the
         extremes of the estimates at Δf_mea ± u_f.
     """
-    from camtol.report.terminal import Column, Terminal
+    from camtol.report.terminal import EXTREMES_COLUMNS, Terminal
 
     term = terminal or Terminal()
     term.paragraph(f"{name}: conjugate-cam fixture analysis (camtol {__version__})", "bold")
@@ -399,14 +399,6 @@ def print_fixture(
         ]
     )
     th = np.degrees(res.theta_rad)
-    columns = [
-        Column("quantity", wrap=True),
-        Column("unit"),
-        Column("max", "right"),
-        Column("at θ"),
-        Column("min", "right"),
-        Column("at θ"),
-    ]
     rows = [
         (
             fixture_label(key),
@@ -418,7 +410,9 @@ def print_fixture(
         )
         for key, (mx, mn) in res.extremes.items()
     ]
-    term.table(columns, rows, title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined)")
+    term.table(
+        EXTREMES_COLUMNS, rows, title=f"Extremes over 0-360° (grid {th[1] - th[0]:g}°, refined)"
+    )
     if record is not None:
         _print_record(term, record)
     pred = _prediction_json(res)

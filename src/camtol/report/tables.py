@@ -469,7 +469,7 @@ def print_analysis(a: Analysis, *, terminal: Terminal | None = None, verbose: bo
     verbose : bool
         Also print the IT-grade conventions in force (THEORY §3.6).
     """
-    from camtol.report.terminal import Column, Terminal
+    from camtol.report.terminal import EXTREMES_COLUMNS, Terminal
 
     term = terminal or Terminal()
     d = a.design
@@ -494,17 +494,8 @@ def print_analysis(a: Analysis, *, terminal: Terminal | None = None, verbose: bo
         )
     params += [(f"tolerance {t.key}", f"{t.display} [{t.origin}]") for t in a.tolerances]
     term.key_values(params)
-    columns = [
-        Column("quantity", wrap=True),
-        Column("unit"),
-        Column("max", "right"),
-        Column("at θ"),
-        Column("min", "right"),
-        Column("at θ"),
-    ]
-    term.table(
-        columns, list(_rows(a)), title=f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)"
-    )
+    title = f"Extremes over 0-360° (grid {a.step_deg:g}°, refined)"
+    term.table(EXTREMES_COLUMNS, list(_rows(a)), title=title)
     if a.accuracy is None:
         term.paragraph(f"Output accuracy: {accuracy_words(None)}")
     else:

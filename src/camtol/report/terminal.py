@@ -19,7 +19,7 @@ import textwrap
 from collections.abc import Sequence
 from typing import IO, Literal, NamedTuple
 
-__all__ = ["NO_BREAK", "Column", "Terminal"]
+__all__ = ["EXTREMES_COLUMNS", "NO_BREAK", "Column", "Terminal"]
 
 #: Width of output that is not a terminal (a file, a pipe). [characters]
 PIPE_WIDTH = 80
@@ -46,6 +46,18 @@ class Column(NamedTuple):
     heading: str
     align: Literal["left", "right"] = "left"
     wrap: bool = False
+
+
+#: The columns of an extremes table (``analyze``, ``conjugate``): the quantity's name
+#: wraps; each extreme's angles are whole lines of their cell.
+EXTREMES_COLUMNS = (
+    Column("quantity", wrap=True),
+    Column("unit"),
+    Column("max", "right"),
+    Column("at θ"),
+    Column("min", "right"),
+    Column("at θ"),
+)
 
 
 class Terminal:
