@@ -55,6 +55,18 @@ def decision_option(f: F) -> F:
     )(f)
 
 
+#: ``--decision`` of ``camtol report``, whose rule judges a fixture record and a CMM scan.
+_REPORT_DECISION = click.option(
+    "--decision",
+    type=click.Choice(["simple", "guard-band"]),
+    default="simple",
+    show_default=True,
+    help="Conformance rule (ISO 14253-1): 'simple' judges Δf_mea against each cam's band"
+    " (fixture) and the deviations against the zone (--cmm); 'guard-band' shrinks the band"
+    " by the record's u_f (needs --record) and the zone by the CMM's U (needs --u-cmm-um).",
+)
+
+
 def inspection_options(f: F) -> F:
     """Add the inspection inputs of ``camtol conjugate`` to a command (for ``report``).
 
@@ -118,7 +130,7 @@ def inspection_options(f: F) -> F:
             metavar="fit|fit-rotation|bore|centre:X,Y[,DEG]",
             help="Registration of the CMM scans (as `camtol inspect --datum`).",
         ),
-        decision_option,
+        _REPORT_DECISION,
     ]
     for option in reversed(options):
         f = option(f)
