@@ -150,7 +150,9 @@ def test_messages_name_the_enclosing_table_and_stay_short() -> None:
 
 
 def test_a_table_must_be_a_table() -> None:
-    (p,) = _problems(["not", "a", "table"]).problems
+    exc = _problems(["not", "a", "table"])
+    (p,) = exc.problems
     assert p.loc == () and p.allowed == "a table"
+    assert str(exc) == "['not', 'a', 'table'] is not allowed; give a table"
     (p,) = _problems({"name": "c", "r_mm": 1, "segments": "rise"}).problems
     assert p.loc == ("segments",) and p.allowed.startswith("an array of items")

@@ -406,6 +406,8 @@ def describe_problem(problem: FieldProblem, prefix: str = "") -> str:
         E.g. ``operation.speed_rpm=-3 is not allowed; give a finite number > 0 ...``.
     """
     where = location(problem.loc, prefix)
+    if not where:  # the table itself (given from Python as something else)
+        return f"{short_repr(problem.value)} is not allowed; give {problem.allowed}"
     if problem.kind == "missing":
         return f"{where} is missing; give {problem.allowed}"
     if problem.kind == "unknown":
