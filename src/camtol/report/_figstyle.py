@@ -1,4 +1,5 @@
-"""Figure helpers of the issue-13 figures: legends beside the axes, the title stamp.
+"""Figure helpers of the issue-13 figures: legends beside the axes, the title stamp, and
+the analysis figure's fixed layout sized to those legends (issue 32).
 
 Private to :mod:`camtol.report`; the shared look (axes, labels, colours) is
 :mod:`camtol.report.plot_style`.
