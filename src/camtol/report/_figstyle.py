@@ -1,8 +1,8 @@
-"""Figure helpers of the issue-13 figures: legends beside the axes, the title stamp, and
-the analysis figure's fixed layout sized to those legends (issue 32).
+"""Figure helpers: legends beside the axes, the title stamp, the fixed layout.
 
-Private to :mod:`camtol.report`; the shared look (axes, labels, colours) is
-:mod:`camtol.report.plot_style`.
+The legends and the stamp serve the issue-13 figures; the analysis figure is laid out
+once, its gaps sized to those legends (issue 32). Private to :mod:`camtol.report`; the
+shared look (axes, labels, colours) is :mod:`camtol.report.plot_style`.
 """
 
 from __future__ import annotations
