@@ -211,20 +211,16 @@ class Choice(NamedTuple):
 
 
 class ListOf(NamedTuple):
-    """An array whose every item is of one kind (``length`` items when given)."""
+    """An array whose every item is of one kind."""
 
     item: Kind
-    length: int | None = None
 
     def describe(self) -> str:
         """Say what the kind allows, in words (for messages)."""
-        count = "" if self.length is None else f"{self.length} "
-        return f"an array of {count}items, each {self.item.describe()}"
+        return f"an array of items, each {self.item.describe()}"
 
     def _convert(self, value: object, loc: Location, problems: list[FieldProblem]) -> Any:
         if isinstance(value, str | bytes | Mapping) or not isinstance(value, Sequence):
-            return _refuse(problems, loc, value, self.describe())
-        if self.length is not None and len(value) != self.length:
             return _refuse(problems, loc, value, self.describe())
         before = len(problems)
         out = [self.item._convert(v, (*loc, i), problems) for i, v in enumerate(value)]
@@ -270,17 +266,11 @@ class Field(NamedTuple):
 
     kind: Kind
     default: Any = _REQUIRED
-    #: What a message says the field allows (default: the kind's own description).
-    allowed: str | None = None
 
     @property
     def required(self) -> bool:
         """Whether the field has no default (the file must give it)."""
         return self.default is _REQUIRED
-
-    def describe(self) -> str:
-        """Say what the kind allows, in words (for messages)."""
-        return self.allowed if self.allowed is not None else self.kind.describe()
 
 
 class Table(NamedTuple):
@@ -328,20 +318,15 @@ class Table(NamedTuple):
             given = value.get(name)
             if given is None:
                 if spec.required:
-                    problems.append(FieldProblem((*loc, name), "missing", None, spec.describe()))
+                    allowed = spec.kind.describe()
+                    problems.append(FieldProblem((*loc, name), "missing", None, allowed))
                 else:  # a fresh copy: a default table or list is never shared
                     default = spec.default
                     out[name] = (
                         type(default)(default) if isinstance(default, dict | list) else default
                     )
                 continue
-            trial: list[FieldProblem] = []
-            out[name] = spec.kind._convert(given, (*loc, name), trial)
-            if spec.allowed is not None:  # the field's own words, for a flat value
-                trial = [
-                    p._replace(allowed=spec.allowed) if p.loc == (*loc, name) else p for p in trial
-                ]
-            problems.extend(trial)
+            out[name] = spec.kind._convert(given, (*loc, name), problems)
         for name in value:
             if name not in self.fields:
                 allowed = ", ".join(self.fields)
