@@ -26,7 +26,7 @@ from camtol.cli.common import (
     load_input,
     run_guarded,
 )
-from camtol.cli.options import Number, design_options, step_option
+from camtol.cli.options import Number, decision_flag, design_options, step_option
 from camtol.cli.recording import check_store_options, store_options
 
 if TYPE_CHECKING:
@@ -277,13 +277,9 @@ def parse_datum(
     help="Deviation the zone bounds: dn (normal, ISO 1101; default) or dr (a radial band,"
     " not ISO 1101).",
 )
-@click.option(
-    "--decision",
-    type=click.Choice(["simple", "guard-band"]),
-    default="simple",
-    show_default=True,
-    help="Decision rule (ISO 14253-1): 'simple' judges the deviations against the zone;"
-    " 'guard-band' against the zone shrunk by U on both sides (needs --u-cmm-um).",
+@decision_flag(
+    "Decision rule (ISO 14253-1): 'simple' judges the deviations against the zone;"
+    " 'guard-band' against the zone shrunk by U on both sides (needs --u-cmm-um)."
 )
 @click.option(
     "--u-cmm-um",

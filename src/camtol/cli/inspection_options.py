@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from camtol.cli.common import fail
-from camtol.cli.options import Number
+from camtol.cli.options import Number, decision_flag
 
 if TYPE_CHECKING:  # pragma: no cover
     from camtol.pair.fixture_run import FixtureInputs
@@ -31,39 +31,18 @@ __all__ = [
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def decision_option(f: F) -> F:
-    """Add ``--decision simple|guard-band`` (ISO 14253-1) to a command.
-
-    Parameters
-    ----------
-    f : callable
-        The click command function.
-
-    Returns
-    -------
-    callable
-        ``f`` with the option.
-    """
-    return click.option(
-        "--decision",
-        type=click.Choice(["simple", "guard-band"]),
-        default="simple",
-        show_default=True,
-        help="Conformance rule (ISO 14253-1): 'simple' passes a cam when Δf_mea is in its"
-        " band; 'guard-band' only when Δf_mea ± u_f is (the band shrunk by the record's"
-        " uncertainty u_f; needs --record).",
-    )(f)
-
+#: ``--decision`` of ``camtol conjugate`` (the fixture's record).
+decision_option = decision_flag(
+    "Conformance rule (ISO 14253-1): 'simple' passes a cam when Δf_mea is in its"
+    " band; 'guard-band' only when Δf_mea ± u_f is (the band shrunk by the record's"
+    " uncertainty u_f; needs --record)."
+)
 
 #: ``--decision`` of ``camtol report``, whose rule judges a fixture record and a CMM scan.
-_REPORT_DECISION = click.option(
-    "--decision",
-    type=click.Choice(["simple", "guard-band"]),
-    default="simple",
-    show_default=True,
-    help="Conformance rule (ISO 14253-1): 'simple' judges Δf_mea against each cam's band"
+_REPORT_DECISION = decision_flag(
+    "Conformance rule (ISO 14253-1): 'simple' judges Δf_mea against each cam's band"
     " (fixture) and the deviations against the zone (--cmm); 'guard-band' shrinks the band"
-    " by the record's u_f (needs --record) and the zone by the CMM's U (needs --u-cmm-um).",
+    " by the record's u_f (needs --record) and the zone by the CMM's U (needs --u-cmm-um)."
 )
 
 

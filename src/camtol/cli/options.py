@@ -23,6 +23,7 @@ import click
 __all__ = [
     "MAX_TOOL_RADIUS_MM",
     "Number",
+    "decision_flag",
     "design_options",
     "seed_option",
     "step_option",
@@ -204,3 +205,28 @@ seed_option = click.option(
     show_default=True,
     help="Seed of the random streams.",
 )
+
+
+def decision_flag(help_text: str) -> Callable[[F], F]:
+    """Return the ``--decision simple|guard-band`` option (ISO 14253-1) with its help.
+
+    The rule is one flag in every command; what it judges (a fixture record, a CMM scan,
+    both) is the command's, and so is the help.
+
+    Parameters
+    ----------
+    help_text : str
+        What 'simple' and 'guard-band' judge in this command.
+
+    Returns
+    -------
+    callable
+        A decorator adding the option.
+    """
+    return click.option(
+        "--decision",
+        type=click.Choice(["simple", "guard-band"]),
+        default="simple",
+        show_default=True,
+        help=help_text,
+    )
