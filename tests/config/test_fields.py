@@ -138,10 +138,12 @@ def test_every_problem_is_found_with_its_path() -> None:
 
 
 def test_messages_name_the_enclosing_table_and_stay_short() -> None:
-    exc = _problems({"name": "c", "r_mm": -1})
-    assert describe_problems(exc.problems, "follower") == (
+    with pytest.raises(FieldErrors) as named:
+        TABLE.validate({"name": "c", "r_mm": -1}, "follower")
+    assert str(named.value) == (
         "follower.r_mm=-1 is not allowed; give a finite number ≥ 0.001 and ≤ 100000 mm"
     )
+    assert named.value.problems[0].loc == ("r_mm",)  # relative to the table
     many = Table({f"f{i}": Field(Number()) for i in range(60)})
     with pytest.raises(FieldErrors) as caught:
         many.validate({})

@@ -68,7 +68,6 @@ from camtol.config.fields import (
     Number,
     Table,
     Text,
-    describe_problems,
     short_repr,
 )
 from camtol.design.cam_design import CamDesign, ToleranceSpec
@@ -82,7 +81,7 @@ from camtol.design.motion import (
 )
 from camtol.design.sources import DESIGN_SOURCES
 from camtol.design.table_noise import table_resolution
-from camtol.exceptions import ConfigError, DesignError, FieldErrors, InputFileError
+from camtol.exceptions import ConfigError, DesignError, InputFileError
 from camtol.grid import drop_closing_row, uniform_table_step
 from camtol.mechanisms import MECHANISMS, Mechanism
 from camtol.tables import read_table
@@ -160,7 +159,7 @@ def _follower(raw: Any) -> Mechanism:
         raise ConfigError(f"follower.type is missing; allowed: {allowed}")
     if not isinstance(ftype, str) or ftype not in types:
         raise ConfigError(f"follower.type={short_repr(ftype)} is unknown; allowed: {allowed}")
-    values = _validate(_follower_table(types[ftype]), raw, "follower")
+    values = _follower_table(types[ftype]).validate(raw, "follower")
     del values["type"]
     return types[ftype].from_parameters(values)
 
@@ -248,13 +247,6 @@ _DESIGN = Table(
         "drawing": Field(_DRAWING, {}),
     }
 )
-
-
-def _validate(table: Table, data: Any, prefix: str = "") -> dict[str, Any]:
-    try:
-        return table.validate(data)
-    except FieldErrors as exc:
-        raise ConfigError(describe_problems(exc.problems, prefix)) from None
 
 
 def _motion_program(
@@ -458,7 +450,7 @@ def design_from_mapping(data: Mapping[str, Any], *, base_dir: Path | None = None
     ConfigError
         Naming the field, the value and what is allowed.
     """
-    top = _validate(_DESIGN, data)
+    top = _DESIGN.validate(data)
     try:
         mech = _follower(top["follower"])
         program = _motion_program(top["motion"], mech.output == "oscillating", base_dir)

@@ -282,15 +282,16 @@ class Table(NamedTuple):
         """Say what the kind allows, in words (for messages)."""
         return "a table"
 
-    def validate(self, raw: object, loc: Location = ()) -> dict[str, Any]:
+    def validate(self, raw: object, prefix: str = "") -> dict[str, Any]:
         """Return the table with defaults filled in.
 
         Parameters
         ----------
         raw : object
             The table as read from TOML (a mapping; anything else is a problem).
-        loc : tuple of str and int
-            Where the table sits, prefixed to every problem's path.
+        prefix : str
+            Where the table sits in the file (``"follower"``), written before every
+            field's path in the message.
 
         Returns
         -------
@@ -300,12 +301,13 @@ class Table(NamedTuple):
         Raises
         ------
         FieldErrors
-            Every problem found, each naming its field path (``loc`` prefixed).
+            Every problem found, each naming its field path (a :class:`ConfigError`:
+            one line, ``prefix`` before each path; ``problems`` relative to the table).
         """
         problems: list[FieldProblem] = []
-        out = self._convert(raw, loc, problems)
+        out = self._convert(raw, (), problems)
         if problems:
-            raise FieldErrors(describe_problems(problems), tuple(problems))
+            raise FieldErrors(describe_problems(problems, prefix), tuple(problems))
         assert isinstance(out, dict)
         return out
 

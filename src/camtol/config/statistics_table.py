@@ -23,10 +23,9 @@ from camtol.config.fields import (
     Number,
     Table,
     Text,
-    describe_problems,
 )
 from camtol.design.cam_design import CamDesign
-from camtol.exceptions import ConfigError, FieldErrors
+from camtol.exceptions import ConfigError
 from camtol.tolerancing.distributions import SourceDistribution
 from camtol.tolerancing.model import StatisticalModel
 from camtol.tolerancing.processes import ProfileProcess
@@ -71,15 +70,8 @@ _PROCESS = Table(
 )
 
 
-def _validate(table: Table, data: Any, where: str) -> dict[str, Any]:
-    try:
-        return table.validate(data)
-    except FieldErrors as exc:
-        raise ConfigError(describe_problems(exc.problems, where)) from None
-
-
 def _source(data: Any, where: str, unit: str) -> SourceDistribution:
-    s = _validate(_SOURCE, data, where)
+    s = _SOURCE.validate(data, where)
     want, other = ("um", "deg") if unit == "mm" else ("deg", "um")
     for name in ("bias", "zone_lower", "zone_upper"):
         if s[f"{name}_{other}"] is not None:
@@ -172,7 +164,7 @@ def parse_statistics(raw: Mapping[str, Any], design: CamDesign) -> StatisticalMo
 
 def _process(value: Any, where: str, design: CamDesign) -> ProfileProcess:
     """Validate a ``profile_process`` table for a (single-contact) design."""
-    p = _validate(_PROCESS, value, where)
+    p = _PROCESS.validate(value, where)
     try:
         process = ProfileProcess(
             target=p["target"],
